@@ -1,0 +1,61 @@
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include "wheeltec/can_frame.hpp"
+#include "wheeltec/odometry.hpp"
+#include "wheeltec/telemetry_json.hpp"
+#include "wheeltec/telemetry_reassembler.hpp"
+
+namespace wheeltec::daemon {
+
+// The telemetry side: reassembles and decodes records, keeps the odometry, the latest
+// sample and whether the chassis is online (a record accepted within `timeout`).
+class ChassisMonitor {
+ public:
+  using SampleHandler = std::function<void(const TelemetrySample&)>;
+  using OnlineHandler = std::function<void(bool online)>;
+
+  ChassisMonitor(boost::asio::io_context& io, std::chrono::nanoseconds timeout, double low_battery_v);
+
+  void on_sample(SampleHandler handler) { sample_handler_ = std::move(handler); }
+  void on_online(OnlineHandler handler) { online_handler_ = std::move(handler); }
+
+  // A frame from the CAN link, with its kernel receive time (since the epoch).
+  void feed(const CanFrame& frame, std::chrono::nanoseconds time);
+
+  // The link went down: drop any partial group.
+  void link_lost();
+
+  void reset_odometry();
+  void set_timeout(std::chrono::nanoseconds timeout);
+  void set_low_battery_v(double volts) { low_battery_v_ = volts; }
+
+  bool online() const { return online_; }
+  const std::optional<TelemetrySample>& latest() const { return latest_; }
+  // Seconds since the latest record was accepted (steady clock); empty before the first.
+  std::optional<double> telemetry_age_s() const;
+  const ReassemblyCounters& counters() const { return reassembler_.counters(); }
+
+ private:
+  // implementation-defined members
+  boost::asio::steady_timer offline_timer_;
+  std::chrono::nanoseconds timeout_;
+  double low_battery_v_;
+  TelemetryReassembler reassembler_;
+  Odometry odometry_;
+  std::optional<TelemetrySample> latest_;
+  std::optional<std::chrono::steady_clock::time_point> latest_steady_;
+  std::uint64_t seq_ = 0;
+  bool online_ = false;
+  SampleHandler sample_handler_;
+  OnlineHandler online_handler_;
+};
+
+}  // namespace wheeltec::daemon

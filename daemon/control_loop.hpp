@@ -1,0 +1,75 @@
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <optional>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include "wheeltec/config.hpp"
+#include "wheeltec/control_arbiter.hpp"
+#include "wheeltec/control_frame.hpp"
+
+#include "can_link.hpp"
+
+namespace wheeltec::daemon {
+
+// What a drive request led to.
+enum class DriveOutcome { accepted, control_held, control_disabled, bus_down };
+
+struct DriveResult {
+  DriveOutcome outcome = DriveOutcome::accepted;
+  Velocity sent;         // the target as it will be sent (rounded and clamped), SI units
+  bool clamped = false;
+};
+
+// The control side of the contract (spec "CAN side" and "Control rules"): the control
+// frame every 1/rate_hz while enabled plus one at once when the target changes, the
+// enable frame when control becomes enabled and every enable_refresh_s (manual dialect),
+// the first control frame zero, ownership and the deadman (a timer at the owner's deadline,
+// no polling), zero then disable on shutdown.
+class ControlLoop {
+ public:
+  using ChangeHandler = std::function<void()>;  // enabled, owner or target changed
+
+  ControlLoop(boost::asio::io_context& io, CanLink& link, const GatewayConfig& config);
+
+  void on_change(ChangeHandler handler) { change_handler_ = std::move(handler); }
+
+  // Sends the zero control frame, then enables control if control.auto_enable.
+  void start();
+
+  DriveResult drive(ClientId client, const Velocity& target);
+  void stop();                    // zero now, release control (from any client)
+  void enable();                  // enable frame (manual dialect), periodic frames start
+  void disable();                 // zero, then disable frame (manual dialect), periodic frames stop
+  void client_gone(ClientId client);  // zero at once if it held control
+  void chassis_came_online();     // manual dialect: re-send the enable frame at once if enabled
+  void link_came_up();            // resend enable (manual) and the current frame at once
+
+  // Zero velocity, then the disable frame if disable_on_exit (manual dialect); timers stopped.
+  void shutdown();
+
+  // Run-time changes (SIGHUP reload).
+  void apply(const GatewayConfig& config);
+
+  bool enabled() const { return enabled_; }
+  std::optional<ClientId> owner() const { return arbiter_.owner(); }
+  Velocity target() const;  // as sent (quantized), SI units
+
+ private:
+  // implementation-defined members
+  boost::asio::io_context& io_;
+  CanLink& link_;
+  GatewayConfig config_;
+  ControlArbiter arbiter_;
+  ControlCommand command_;
+  bool enabled_ = false;
+  boost::asio::steady_timer period_timer_;
+  boost::asio::steady_timer enable_timer_;
+  boost::asio::steady_timer deadman_timer_;
+  ChangeHandler change_handler_;
+};
+
+}  // namespace wheeltec::daemon

@@ -1,0 +1,67 @@
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/types.hpp"
+
+// JSON-RPC 2.0 framing for the daemon's line protocol (spec section 2, "JSON API").
+namespace wheeltec::rpc {
+
+inline constexpr std::size_t kMaxLineBytes = 64 * 1024;  // without the '\n'
+
+enum ErrorCode : int {
+  kParseError = -32700,
+  kInvalidRequest = -32600,
+  kMethodNotFound = -32601,
+  kInvalidParams = -32602,
+  kInternalError = -32603,
+  kControlHeld = -32001,
+  kControlDisabled = -32002,
+  kBusDown = -32003,
+  kNoTelemetry = -32004,
+  kNotPermitted = -32005,
+};
+
+struct Request {
+  nlohmann::json id;          // null when is_notification
+  bool is_notification = false;
+  std::string method;
+  nlohmann::json params;      // object, array or null (absent)
+};
+
+struct Error {
+  int code = kInternalError;
+  std::string message;
+  nlohmann::json id;          // null when the request's id could not be read
+};
+
+// Parses one line (without '\n'). Errors: unparsable or invalid UTF-8 -> -32700;
+// not an object, a batch, missing/wrong "jsonrpc", missing/non-string "method",
+// id not a string/number/null, params not an object/array -> -32600.
+std::variant<Request, Error> parse_request(std::string_view line);
+
+// Serialised responses and notifications, each ending in '\n'.
+std::string encode_result(const nlohmann::json& id, const nlohmann::json& result);
+std::string encode_error(const Error& error);
+std::string encode_notification(std::string_view method, const nlohmann::json& params);
+
+// drive params {"vx","vy","wz"} (absent = 0). Errors (-32602, message names the param):
+// params not an object, unknown key, non-numeric or non-finite value, vy != 0 on a
+// chassis that cannot move sideways.
+std::variant<Velocity, Error> parse_drive_params(const Request& request, ChassisType chassis);
+
+// Methods that take no params accept absent, null, {} or []; anything else is -32602.
+std::optional<Error> expect_no_params(const Request& request);
+
+inline constexpr std::string_view kTopicTelemetry = "telemetry";
+inline constexpr std::string_view kTopicStatus = "status";
+
+// subscribe/unsubscribe params {"topics": [...]} with known topic names; -32602 otherwise.
+std::variant<std::vector<std::string>, Error> parse_topics(const Request& request);
+
+}  // namespace wheeltec::rpc
