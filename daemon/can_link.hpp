@@ -26,8 +26,9 @@ struct CanLinkCounters {
   std::uint64_t reopens = 0;          // times the socket was (re)opened successfully
 };
 
-// The daemon's raw CAN socket on one interface: kernel filters (0x101-0x103 standard
-// data frames and error frames only), kernel receive timestamps, non-blocking sends.
+// The daemon's raw CAN socket on one interface: kernel filters (IDs 0x101-0x103, as standard
+// frames or exactly that 29-bit ID, so that malformed telemetry can be counted; error frames),
+// kernel receive timestamps, non-blocking sends.
 // The interface may be absent or down at start, go down, disappear and come back: the
 // link reports the state and reopens by itself (retrying every retry_interval).
 class CanLink {
@@ -54,7 +55,18 @@ class CanLink {
   const CanLinkCounters& counters() const { return counters_; }
 
  private:
-  // implementation-defined members
+  // Why the link is down, so that each cause is logged once rather than on every retry.
+  enum class DownCause { none, absent, not_up, open_failed, socket_error };
+
+  bool try_open();
+  void go_down(const boost::system::error_code& ec);
+  void schedule_retry();
+  void wait_readable();
+  void drain(std::uint64_t generation);
+  void handle_error_frame(const CanFrame& frame);
+  void note_down_cause(DownCause cause, const char* what, const boost::system::error_code& ec);
+  void set_state(BusState state);
+
   boost::asio::io_context& io_;
   std::string interface_;
   std::chrono::milliseconds retry_interval_;
@@ -64,6 +76,11 @@ class CanLink {
   CanLinkCounters counters_;
   FrameHandler frame_handler_;
   StateHandler state_handler_;
+  // Bumped whenever the socket is closed or reopened: completions of an older socket are stale.
+  std::uint64_t generation_ = 0;
+  bool running_ = false;
+  DownCause down_cause_ = DownCause::none;
+  bool send_failing_ = false;  // the last send failed; the next failure is logged at debug only
 };
 
 }  // namespace wheeltec::daemon

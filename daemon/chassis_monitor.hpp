@@ -44,7 +44,10 @@ class ChassisMonitor {
   const ReassemblyCounters& counters() const { return reassembler_.counters(); }
 
  private:
-  // implementation-defined members
+  void accept(const AssembledRecord& assembled);
+  void arm_offline_timer(std::chrono::steady_clock::time_point expiry);
+  void set_online(bool online);
+
   boost::asio::steady_timer offline_timer_;
   std::chrono::nanoseconds timeout_;
   double low_battery_v_;

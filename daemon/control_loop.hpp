@@ -59,13 +59,35 @@ class ControlLoop {
   Velocity target() const;  // as sent (quantized), SI units
 
  private:
-  // implementation-defined members
+  using Clock = std::chrono::steady_clock;
+
+  Nanos now() const;
+  ControlCommand frame_command(const ControlCommand& command) const;
+  // Quantizes the arbiter's target into command_ and sent_command_; true if the frame changed.
+  bool update_command();
+  void send_control();
+  void send_enable(bool enable);
+  void start_periodic();
+  void arm_period_timer();
+  void start_enable_refresh();
+  void arm_enable_timer();
+  void arm_deadman();
+  void notify_if_changed(bool was_enabled, std::optional<ClientId> previous_owner, const ControlCommand& previous);
+
   boost::asio::io_context& io_;
   CanLink& link_;
   GatewayConfig config_;
   ControlArbiter arbiter_;
-  ControlCommand command_;
+  ControlCommand command_;        // the target in the API's terms (Z a yaw rate), quantized
+  ControlCommand sent_command_;   // what goes into control frames (Z a steering angle in that mode)
   bool enabled_ = false;
+  bool started_ = false;
+  bool shut_down_ = false;
+  bool zero_pending_ = true;      // the start-up zero frame has not reached the kernel yet
+  Clock::duration period_{};
+  Clock::time_point next_period_{};
+  Clock::duration enable_refresh_{};
+  Clock::time_point next_enable_{};
   boost::asio::steady_timer period_timer_;
   boost::asio::steady_timer enable_timer_;
   boost::asio::steady_timer deadman_timer_;

@@ -20,6 +20,8 @@ struct ChassisGeometry {
 ChassisGeometry default_geometry(ChassisType type);
 
 // Wheel surface speeds in m/s, in the manual's order (A, B, C, D); `count` wheels used.
+// Differential, tank and Ackermann (rear wheels): A left, B right. Mecanum and 4WD:
+// A, B on the left, C, D on the right. Omni: A rolls along y, B and C at +-120 degrees.
 struct WheelSpeeds {
   std::array<double, 4> v{};
   std::size_t count = 0;

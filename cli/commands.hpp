@@ -1,0 +1,32 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "wheeltec/types.hpp"
+
+// The subcommands of wheeltecctl. Each returns the process exit code or throws CliError.
+namespace wheeltecctl {
+
+struct GlobalOptions {
+  std::string socket_path;
+  bool json = false;
+};
+
+// status, telemetry, stats, version: one request, result printed.
+int run_query(const GlobalOptions& options, const std::string& method);
+
+// stop, enable, disable, reset_odometry: one request, "ok" or {} printed.
+int run_action(const GlobalOptions& options, const std::string& method);
+
+// Telemetry records until `count` were printed (0 = until SIGINT/SIGTERM, exit 0).
+int run_watch(const GlobalOptions& options, std::uint64_t count);
+
+// drive re-sent every 100 ms for `seconds`, then stop. Interrupted by a signal: stop,
+// then exit 128 + signal number (130 for Ctrl-C).
+int run_drive(const GlobalOptions& options, const wheeltec::Velocity& velocity, double seconds);
+
+// Keyboard driving; each motion key drives for `hold_seconds` after it was pressed.
+int run_teleop(const GlobalOptions& options, double hold_seconds);
+
+}  // namespace wheeltecctl

@@ -1,0 +1,179 @@
+#include "human_format.hpp"
+
+#include <algorithm>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace wheeltecctl {
+namespace {
+
+constexpr std::string_view kUnknown = "?";
+
+const Json* find_member(const Json& object, std::string_view key) {
+  if (!object.is_object()) return nullptr;
+  const auto it = object.find(key);
+  return it == object.end() ? nullptr : &*it;
+}
+
+const Json& member_or_null(const Json& object, std::string_view key) {
+  static const Json null_json;
+  const Json* found = find_member(object, key);
+  return found == nullptr ? null_json : *found;
+}
+
+std::string number_text(const Json& value, int decimals) {
+  if (!value.is_number()) return std::string(kUnknown);
+  return fmt::format("{:.{}f}", value.get<double>(), decimals);
+}
+
+std::string signed_number_text(const Json& value, int decimals) {
+  if (!value.is_number()) return std::string(kUnknown);
+  return fmt::format("{:+.{}f}", value.get<double>(), decimals);
+}
+
+std::string string_text(const Json& value) {
+  if (!value.is_string()) return std::string(kUnknown);
+  return value.get<std::string>();
+}
+
+std::string scalar_text(const Json& value) {
+  if (value.is_string()) return value.get<std::string>();
+  return value.dump();
+}
+
+std::string velocity_text(const Json& velocity) {
+  return fmt::format("vx={} vy={} wz={}", number_text(member_or_null(velocity, "vx"), 3),
+                     number_text(member_or_null(velocity, "vy"), 3),
+                     number_text(member_or_null(velocity, "wz"), 3));
+}
+
+std::string chassis_text(const Json& chassis) {
+  std::string text = fmt::format("{}, dialect {}, ", string_text(member_or_null(chassis, "type")),
+                                 string_text(member_or_null(chassis, "dialect")));
+  const Json& online = member_or_null(chassis, "online");
+  if (!online.is_boolean()) {
+    text += "online ?";
+  } else if (online.get<bool>()) {
+    text += "online";
+    const Json& age = member_or_null(chassis, "telemetry_age_s");
+    if (age.is_number()) text += fmt::format(" (telemetry {:.2f} s ago)", age.get<double>());
+  } else {
+    text += "offline";
+  }
+  const Json& stopped = member_or_null(chassis, "stopped");
+  if (stopped.is_boolean()) text += stopped.get<bool>() ? ", motors stopped" : ", motors enabled";
+  return text;
+}
+
+std::string battery_text(const Json& chassis) {
+  const Json& voltage = member_or_null(chassis, "battery_v");
+  if (!voltage.is_number()) return "unknown";
+  std::string text = fmt::format("{:.2f} V", voltage.get<double>());
+  const Json& low = member_or_null(chassis, "battery_low");
+  if (low.is_boolean() && low.get<bool>()) text += " (LOW)";
+  return text;
+}
+
+std::string control_text(const Json& control) {
+  const Json& enabled = member_or_null(control, "enabled");
+  std::string text = enabled.is_boolean() ? (enabled.get<bool>() ? "enabled" : "disabled")
+                                          : std::string("enabled ?");
+  const Json& owner = member_or_null(control, "owner");
+  if (owner.is_null()) {
+    text += ", no owner";
+  } else {
+    text += ", owner client " + scalar_text(owner);
+  }
+  return text;
+}
+
+void flatten(const Json& value, const std::string& name,
+             std::vector<std::pair<std::string, std::string>>& lines) {
+  if (value.is_object() && !value.empty()) {
+    for (const auto& [key, child] : value.items()) {
+      flatten(child, name.empty() ? key : name + "." + key, lines);
+    }
+    return;
+  }
+  lines.emplace_back(name.empty() ? std::string("value") : name, scalar_text(value));
+}
+
+}  // namespace
+
+std::string format_status(const Json& status) {
+  const Json& bus = member_or_null(status, "bus");
+  const Json& chassis = member_or_null(status, "chassis");
+  const Json& control = member_or_null(status, "control");
+  const Json& uptime = member_or_null(status, "uptime_s");
+
+  std::string text;
+  text += fmt::format("daemon:   wheeltecd {}, up {}\n", string_text(member_or_null(status, "version")),
+                      uptime.is_number() ? fmt::format("{:.1f} s", uptime.get<double>())
+                                         : std::string(kUnknown));
+  text += fmt::format("bus:      {} {}\n", string_text(member_or_null(bus, "interface")),
+                      string_text(member_or_null(bus, "state")));
+  text += fmt::format("chassis:  {}\n", chassis_text(chassis));
+  text += fmt::format("battery:  {}\n", battery_text(chassis));
+  text += fmt::format("control:  {}\n", control_text(control));
+  text += fmt::format("target:   {}\n", velocity_text(member_or_null(control, "target")));
+  return text;
+}
+
+std::string format_telemetry_line(const Json& record) {
+  const Json& velocity = member_or_null(record, "velocity");
+  const Json& battery = member_or_null(record, "battery");
+  const Json& odom = member_or_null(record, "odom");
+  const Json& seq = member_or_null(record, "seq");
+
+  std::string line = fmt::format(
+      "seq {:>6}  vx {} vy {} wz {}  battery {} V  odom x {} y {} yaw {}",
+      seq.is_number_integer() ? seq.dump() : std::string(kUnknown),
+      signed_number_text(member_or_null(velocity, "vx"), 3),
+      signed_number_text(member_or_null(velocity, "vy"), 3),
+      signed_number_text(member_or_null(velocity, "wz"), 3),
+      number_text(member_or_null(battery, "voltage"), 2),
+      signed_number_text(member_or_null(odom, "x"), 3),
+      signed_number_text(member_or_null(odom, "y"), 3),
+      signed_number_text(member_or_null(odom, "yaw"), 3));
+  const Json& low = member_or_null(battery, "low");
+  if (low.is_boolean() && low.get<bool>()) line += "  LOW BATTERY";
+  const Json& stopped = member_or_null(record, "stopped");
+  if (stopped.is_boolean() && stopped.get<bool>()) line += "  STOPPED";
+  return line;
+}
+
+std::string format_stats(const Json& stats) {
+  std::vector<std::pair<std::string, std::string>> lines;
+  flatten(stats, "", lines);
+  if (stats.is_object() && stats.empty()) lines.clear();
+  std::size_t width = 0;
+  for (const auto& line : lines) width = std::max(width, line.first.size());
+  std::string text;
+  for (const auto& [name, value] : lines) {
+    text += fmt::format("{:<{}} {}\n", name, width, value);
+  }
+  return text;
+}
+
+std::string format_version(const Json& version) {
+  return fmt::format("wheeltecd {} (protocol {})", string_text(member_or_null(version, "version")),
+                     member_or_null(version, "protocol").is_number()
+                         ? member_or_null(version, "protocol").dump()
+                         : std::string(kUnknown));
+}
+
+std::string format_drive_started(const Json& drive_result, const wheeltec::Velocity& requested,
+                                 double seconds) {
+  std::string line = fmt::format("driving {} for {:.1f} s", velocity_text(drive_result), seconds);
+  const Json& clamped = member_or_null(drive_result, "clamped");
+  if (clamped.is_boolean() && clamped.get<bool>()) {
+    line += fmt::format(" (clamped to the daemon's limits; requested vx={:.3f} vy={:.3f} wz={:.3f})",
+                        requested.vx, requested.vy, requested.wz);
+  }
+  return line;
+}
+
+}  // namespace wheeltecctl

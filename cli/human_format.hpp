@@ -1,0 +1,33 @@
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/types.hpp"
+
+// Human-readable rendering of the daemon's JSON results (pure, no I/O). Every function
+// tolerates missing or mistyped fields: they print as "?" instead of failing.
+namespace wheeltecctl {
+
+using Json = nlohmann::ordered_json;
+
+// Multi-line aligned block: daemon, bus, chassis, battery, control, target. Ends in '\n'.
+std::string format_status(const Json& status);
+
+// One line per telemetry record: seq, velocities, battery, odometry. No '\n'.
+std::string format_telemetry_line(const Json& record);
+
+// One "name value" line per leaf, nested objects flattened as "a.b", names padded to
+// one column. Ends in '\n' (empty string for an empty object).
+std::string format_stats(const Json& stats);
+
+// "wheeltecd 0.1.0 (protocol 1)". No '\n'.
+std::string format_version(const Json& version);
+
+// "driving vx=0.300 vy=0.000 wz=0.500 for 3.0 s" from a drive result, plus a note with
+// the requested values when the daemon clamped them. No '\n'.
+std::string format_drive_started(const Json& drive_result, const wheeltec::Velocity& requested,
+                                 double seconds);
+
+}  // namespace wheeltecctl

@@ -1,0 +1,146 @@
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "arguments.hpp"
+#include "cli_error.hpp"
+#include "commands.hpp"
+#include "wheeltec/version.hpp"
+
+namespace {
+
+using namespace wheeltecctl;
+
+std::string help_footer() {
+  return "Socket: --socket PATH, else $" + std::string(kSocketEnvironmentVariable) + ", else " +
+         std::string(kDefaultSocketPath) +
+         ".\n"
+         "Exit status: 0 success, 1 the daemon returned an error or the connection failed,\n"
+         "2 bad usage, 3 the daemon cannot be reached.";
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"Command-line client of the wheeltecd robot chassis gateway.", "wheeltecctl"};
+  app.set_version_flag("--version", std::string("wheeltecctl ") + wheeltec::kVersion);
+  app.footer(help_footer());
+  // At most one command; a missing one is reported after parsing, so that an unknown
+  // word gets CLI11's "not expected" message rather than "subcommand required".
+  app.require_subcommand(0, 1);
+  app.fallthrough();  // --socket and --json are accepted after the command too
+
+  std::string socket_option;
+  bool json = false;
+  app.add_option("--socket", socket_option, "Unix socket of the daemon")->type_name("PATH");
+  app.add_flag("--json", json, "Print the daemon's JSON results, one per line");
+
+  app.add_subcommand("status", "Daemon, bus, chassis, battery and control state");
+  app.add_subcommand("telemetry", "Latest telemetry record");
+  app.add_subcommand("stats", "Daemon counters");
+  app.add_subcommand("version", "Version of the daemon");
+
+  std::int64_t watch_count = 0;
+  CLI::App* watch = app.add_subcommand("watch", "Stream telemetry, one line per record");
+  watch->add_option("-n,--count", watch_count, "Stop after COUNT records (0: until Ctrl-C)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            return text.starts_with('-') ? std::string("COUNT must be 0 or more") : std::string();
+          },
+          ""))
+      ->type_name("COUNT");
+
+  std::vector<std::string> drive_values;
+  double drive_seconds = 1.0;
+  CLI::App* drive = app.add_subcommand(
+      "drive",
+      "Drive VX [VY] WZ (m/s, m/s, rad/s) for SECONDS, then stop. The command is re-sent\n"
+      "every 100 ms. Ctrl-C stops the robot and exits with status 130.");
+  drive->add_option("velocity", drive_values, "VX WZ, or VX VY WZ")
+      ->required()
+      ->expected(2, 3)
+      ->type_name("VX [VY] WZ");
+  drive->add_option("--for", drive_seconds, "Seconds to keep driving (default 1)")
+      ->type_name("SECONDS");
+
+  app.add_subcommand("stop", "Stop the robot now and release control (works for anyone)");
+  app.add_subcommand("enable", "Enable control");
+  app.add_subcommand("disable", "Stop and disable control");
+  app.add_subcommand("reset-odometry", "Reset the odometry to zero");
+
+  double hold_seconds = 0.5;
+  CLI::App* teleop = app.add_subcommand(
+      "teleop",
+      "Keyboard driving: u i o / j k l / m , . (Shift for sideways on mecanum/omni),\n"
+      "k or space stop, q/z w/x e/c change speeds by 10%, Ctrl-C or Esc quit.\n"
+      "Speeds start at 0.2 m/s and 1.0 rad/s. Each key press keeps the robot moving\n"
+      "for the hold time, so holding a key down keeps it going and releasing it stops\n"
+      "it; raise --hold if your keyboard's auto-repeat delay is longer.");
+  teleop->add_option("--hold", hold_seconds, "Seconds one key press keeps moving (default 0.5)")
+      ->type_name("SECONDS");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    if (error.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) {
+      return app.exit(error);
+    }
+    std::cerr << "wheeltecctl: " << error.what() << "\nRun with --help for more information.\n";
+    return kExitUsage;
+  }
+
+  GlobalOptions options;
+  options.socket_path = resolve_socket_path(
+      app.get_option("--socket")->count() > 0 ? std::optional<std::string>(socket_option)
+                                              : std::nullopt,
+      std::getenv(std::string(kSocketEnvironmentVariable).c_str()));
+  options.json = json;
+  if (options.socket_path.empty()) throw CliError(kExitUsage, "--socket needs a path");
+
+  if (app.get_subcommands().empty()) {
+    throw CliError(kExitUsage, "a command is required\nRun with --help for more information.");
+  }
+  CLI::App* command = app.get_subcommands().front();
+  const std::string name = command->get_name();
+  if (name == "status" || name == "telemetry" || name == "stats" || name == "version") {
+    return run_query(options, name);
+  }
+  if (name == "watch") return run_watch(options, static_cast<std::uint64_t>(watch_count));
+  if (name == "drive") {
+    const auto velocity = parse_drive_velocity(drive_values);
+    if (const auto* message = std::get_if<std::string>(&velocity)) {
+      throw CliError(kExitUsage, *message);
+    }
+    if (!std::isfinite(drive_seconds) || drive_seconds < 0.0) {
+      throw CliError(kExitUsage, "drive: --for needs a number of seconds >= 0");
+    }
+    return run_drive(options, std::get<wheeltec::Velocity>(velocity), drive_seconds);
+  }
+  if (name == "teleop") {
+    if (!std::isfinite(hold_seconds) || hold_seconds <= 0.0 || hold_seconds > 10.0) {
+      throw CliError(kExitUsage, "teleop: --hold needs seconds in (0, 10]");
+    }
+    return run_teleop(options, hold_seconds);
+  }
+  return run_action(options, name == "reset-odometry" ? std::string("reset_odometry") : name);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const CliError& error) {
+    std::cout.flush();
+    std::cerr << "wheeltecctl: " << error.what() << std::endl;
+    return error.exit_code();
+  } catch (const std::exception& error) {
+    std::cout.flush();
+    std::cerr << "wheeltecctl: " << error.what() << std::endl;
+    return kExitFailure;
+  }
+}

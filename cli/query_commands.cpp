@@ -1,0 +1,35 @@
+#include <iostream>
+
+#include "cli_error.hpp"
+#include "commands.hpp"
+#include "human_format.hpp"
+#include "rpc_client.hpp"
+
+namespace wheeltecctl {
+
+int run_query(const GlobalOptions& options, const std::string& method) {
+  RpcClient client(options.socket_path);
+  const Json result = client.call(method);
+  if (options.json) {
+    std::cout << result.dump() << '\n';
+  } else if (method == "status") {
+    std::cout << format_status(result);
+  } else if (method == "telemetry") {
+    std::cout << format_telemetry_line(result) << '\n';
+  } else if (method == "stats") {
+    std::cout << format_stats(result);
+  } else {
+    std::cout << format_version(result) << '\n';
+  }
+  std::cout.flush();
+  return kExitOk;
+}
+
+int run_action(const GlobalOptions& options, const std::string& method) {
+  RpcClient client(options.socket_path);
+  const Json result = client.call(method);
+  std::cout << (options.json ? result.dump() : std::string("ok")) << std::endl;
+  return kExitOk;
+}
+
+}  // namespace wheeltecctl

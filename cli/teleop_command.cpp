@@ -1,0 +1,162 @@
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "cli_error.hpp"
+#include "commands.hpp"
+#include "interrupt_signals.hpp"
+#include "rpc_client.hpp"
+#include "teleop_keys.hpp"
+#include "terminal_raw_mode.hpp"
+
+namespace wheeltecctl {
+namespace {
+
+using Clock = InterruptSignals::Clock;
+
+// Well under the daemon's default deadman (control.command_timeout_s = 0.5).
+constexpr std::chrono::milliseconds kResendPeriod{100};
+
+class TeleopSession {
+ public:
+  TeleopSession(RpcClient& client, Clock::duration hold) : client_(client), hold_(hold) {}
+
+  // Applies one chunk of keyboard input; false once a quit key was read.
+  bool handle_input(std::string_view bytes) {
+    for (const TeleopAction& action : teleop_actions_for_input(bytes)) {
+      switch (action.kind) {
+        case TeleopAction::Kind::quit:
+          return false;
+        case TeleopAction::Kind::stop:
+          send_stop();
+          break;
+        case TeleopAction::Kind::scale:
+          speeds_ = apply_scale(speeds_, action);
+          if (moving_until_) send_drive();
+          break;
+        case TeleopAction::Kind::move: {
+          const bool changed = !moving_until_ || direction_ != action.direction;
+          direction_ = action.direction;
+          moving_until_ = Clock::now() + hold_;
+          if (changed) send_drive();
+          break;
+        }
+      }
+    }
+    return true;
+  }
+
+  // The next moment on_timer() has work to do, nullopt while idle.
+  std::optional<Clock::time_point> next_deadline() const {
+    if (!moving_until_) return std::nullopt;
+    return std::min(next_send_, *moving_until_);
+  }
+
+  void on_timer() {
+    if (!moving_until_) return;
+    const auto now = Clock::now();
+    if (now >= *moving_until_) {
+      send_stop();
+    } else if (now >= next_send_) {
+      send_drive();
+    }
+  }
+
+  // Stops the robot if this session is driving it.
+  void finish() {
+    if (moving_until_) send_stop();
+  }
+
+  void render() const {
+    std::string line = fmt::format("\r\x1b[Kspeed {:.2f} m/s  turn {:.2f} rad/s  | {}",
+                                   speeds_.linear, speeds_.angular,
+                                   moving_until_ ? describe_motion(direction_) : "stopped");
+    if (!note_.empty()) line += "  | " + note_;
+    std::fputs(line.c_str(), stdout);
+    std::fflush(stdout);
+  }
+
+ private:
+  void send_drive() {
+    const wheeltec::Velocity velocity = teleop_velocity(direction_, speeds_);
+    try {
+      const Json result = client_.call(
+          "drive", Json{{"vx", velocity.vx}, {"vy", velocity.vy}, {"wz", velocity.wz}});
+      const auto clamped = result.find("clamped");
+      note_ = clamped != result.end() && *clamped == true ? "clamped by the daemon's limits" : "";
+      next_send_ = Clock::now() + kResendPeriod;
+    } catch (const RpcError& error) {
+      // Not driving (held by another client, disabled, bus down...): show it, go idle.
+      note_ = error.daemon_message() + " (code " + std::to_string(error.code()) + ")";
+      moving_until_.reset();
+    }
+  }
+
+  void send_stop() {
+    moving_until_.reset();
+    try {
+      client_.call("stop");
+      note_.clear();
+    } catch (const RpcError& error) {
+      note_ = "stop: " + error.daemon_message() + " (code " + std::to_string(error.code()) + ")";
+    }
+  }
+
+  RpcClient& client_;
+  Clock::duration hold_;
+  TeleopSpeeds speeds_;
+  MotionDirection direction_;
+  std::optional<Clock::time_point> moving_until_;
+  Clock::time_point next_send_{};
+  std::string note_;
+};
+
+}  // namespace
+
+int run_teleop(const GlobalOptions& options, double hold_seconds) {
+  if (::isatty(STDIN_FILENO) != 1) throw CliError(kExitUsage, "teleop needs a terminal");
+  RpcClient client(options.socket_path);
+  InterruptSignals signals;
+  TeleopSession session(client, std::chrono::duration_cast<Clock::duration>(
+                                    std::chrono::duration<double>(hold_seconds)));
+  int exit_code = kExitOk;
+  {
+    TerminalRawMode raw_mode(STDIN_FILENO);
+    std::fputs(teleop_key_help().c_str(), stdout);
+    try {
+      for (bool running = true; running;) {
+        session.render();
+        pollfd keyboard{STDIN_FILENO, POLLIN, 0};
+        const auto wake = signals.wait({&keyboard, 1}, session.next_deadline());
+        if (wake == InterruptSignals::Wake::interrupted) {
+          exit_code = 128 + signals.received();
+          break;
+        }
+        if (wake == InterruptSignals::Wake::ready) {
+          char bytes[64];
+          const ssize_t count = ::read(STDIN_FILENO, bytes, sizeof(bytes));
+          if (count <= 0 && !(count < 0 && errno == EINTR)) break;  // terminal gone
+          if (count > 0) running = session.handle_input({bytes, static_cast<std::size_t>(count)});
+        }
+        session.on_timer();
+      }
+      session.finish();
+    } catch (...) {
+      std::fputs("\r\n", stdout);
+      throw;
+    }
+    session.render();
+    std::fputs("\r\n", stdout);
+    std::fflush(stdout);
+  }
+  return exit_code;
+}
+
+}  // namespace wheeltecctl

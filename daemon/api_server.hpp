@@ -1,0 +1,74 @@
+#pragma once
+
+#include <sys/types.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/local/stream_protocol.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include "wheeltec/config.hpp"
+
+#include "api_counters.hpp"
+#include "client_session.hpp"
+#include "control_policy.hpp"
+#include "rpc_handler.hpp"
+#include "socket_file.hpp"
+
+namespace wheeltec::daemon {
+
+// The listening Unix socket of the JSON API and its connected clients.
+class ApiServer {
+ public:
+  using GoneHandler = std::function<void(ClientId)>;
+
+  // Creates, binds and listens on api.socket (StartupError if it cannot, e.g. the directory
+  // is missing or a running daemon answers on it); `group` is api.group, already resolved.
+  ApiServer(boost::asio::io_context& io, const GatewayConfig::Api& api, std::optional<gid_t> group,
+            ControlPolicy policy, RpcHandler& handler, ApiCounters& counters);
+  ~ApiServer();
+  ApiServer(const ApiServer&) = delete;
+  ApiServer& operator=(const ApiServer&) = delete;
+
+  // Called once per client that disconnects or is disconnected.
+  void on_client_gone(GoneHandler handler) { gone_handler_ = std::move(handler); }
+
+  void start();
+  // Stops accepting, closes every connection and removes the socket file.
+  void close();
+
+  bool has_telemetry_subscribers() const;
+  bool has_status_subscribers() const;
+  void publish_telemetry(const SharedText& notification);
+  void publish_status(const SharedText& notification);
+
+  // Run-time changes (SIGHUP); they apply to clients that connect from now on.
+  void set_policy(ControlPolicy policy) { policy_ = std::move(policy); }
+  void set_max_clients(int max_clients) { max_clients_ = max_clients; }
+
+ private:
+  void accept();
+  void on_accept(const boost::system::error_code& error, boost::asio::local::stream_protocol::socket socket);
+  void refuse(boost::asio::local::stream_protocol::socket socket);
+  void client_gone(ClientId id);
+
+  boost::asio::io_context& io_;
+  boost::asio::local::stream_protocol::acceptor acceptor_;
+  std::optional<SocketFile> socket_file_;
+  boost::asio::steady_timer accept_retry_timer_;
+  ControlPolicy policy_;
+  RpcHandler& handler_;
+  ApiCounters& counters_;
+  int max_clients_;
+  ClientId next_client_id_ = 1;
+  std::map<ClientId, std::shared_ptr<ClientSession>> sessions_;
+  GoneHandler gone_handler_;
+  bool closed_ = false;
+};
+
+}  // namespace wheeltec::daemon

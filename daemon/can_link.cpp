@@ -1,0 +1,284 @@
+#include "can_link.hpp"
+
+#include <linux/can.h>
+#include <linux/can/error.h>
+#include <net/if.h>
+#include <sys/ioctl.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include <boost/asio/error.hpp>
+#include <boost/asio/post.hpp>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "wheeltec/telemetry_reassembler.hpp"
+
+namespace wheeltec::daemon {
+
+namespace {
+
+// Frames handled per wakeup before yielding to the other handlers (timers, clients).
+constexpr int kDrainBudget = 64;
+
+// What reaches the daemon: the three telemetry IDs as standard frames (data or RTR, so that
+// RTR frames on them can be counted as discards) and as 29-bit frames carrying exactly the
+// same number (counted as extended_id discards), plus error frames of every class. Each
+// filter includes CAN_EFF_FLAG in its mask, so a 29-bit frame whose low 11 bits merely
+// happen to be 0x101 does not pass.
+using TelemetryFilters = asio_can::option::filters<6>;
+
+TelemetryFilters telemetry_filters() {
+  TelemetryFilters filters;
+  for (const canid_t id : {kTelemetryId1, kTelemetryId2, kTelemetryId3}) {
+    filters.add(id, CAN_SFF_MASK | CAN_EFF_FLAG);
+    filters.add(id | CAN_EFF_FLAG, CAN_EFF_MASK | CAN_EFF_FLAG);
+  }
+  return filters;
+}
+
+// True if `name` is up (IFF_UP); `fd` may be any socket.
+bool interface_is_up(int fd, const std::string& name, boost::system::error_code& ec) {
+  ifreq request;
+  std::memset(&request, 0, sizeof(request));
+  std::strncpy(request.ifr_name, name.c_str(), IFNAMSIZ - 1);
+  if (::ioctl(fd, SIOCGIFFLAGS, &request) < 0) {
+    ec.assign(errno, boost::system::system_category());
+    return false;
+  }
+  ec.clear();
+  return (request.ifr_flags & IFF_UP) != 0;
+}
+
+bool is_would_block(const boost::system::error_code& ec) {
+  return ec == boost::asio::error::would_block || ec == boost::asio::error::try_again;
+}
+
+bool means_interface_gone(const boost::system::error_code& ec) {
+  return ec == boost::asio::error::network_down || ec == boost::asio::error::no_such_device ||
+         ec.value() == ENXIO;
+}
+
+}  // namespace
+
+std::string_view to_string(BusState state) {
+  switch (state) {
+    case BusState::up: return "up";
+    case BusState::down: return "down";
+    case BusState::error_passive: return "error-passive";
+    case BusState::bus_off: return "bus-off";
+  }
+  return "unknown";
+}
+
+CanLink::CanLink(boost::asio::io_context& io, std::string interface, std::chrono::milliseconds retry_interval)
+    : io_(io),
+      interface_(std::move(interface)),
+      retry_interval_(retry_interval),
+      socket_(io),
+      retry_timer_(io) {}
+
+void CanLink::start() {
+  if (running_) return;
+  running_ = true;
+  if (!try_open()) {
+    schedule_retry();
+  }
+}
+
+void CanLink::stop() {
+  running_ = false;
+  retry_timer_.cancel();
+  boost::system::error_code ignored;
+  socket_.close(ignored);
+  ++generation_;
+}
+
+bool CanLink::send(const CanFrame& frame) {
+  boost::system::error_code ec;
+  if (!socket_.is_open()) {
+    ++counters_.send_errors;
+    return false;
+  }
+  if (asio_can::send_frame(socket_, frame, ec)) {
+    ++counters_.frames_sent;
+    send_failing_ = false;
+    return true;
+  }
+  ++counters_.send_errors;
+  if (means_interface_gone(ec)) {
+    go_down(ec);
+    return false;
+  }
+  // A full transmit queue (nobody acknowledging on a real bus) repeats at the control
+  // rate; say so once until a send succeeds again.
+  if (send_failing_) {
+    spdlog::debug("CAN {}: send failed: {}", interface_, ec.message());
+  } else {
+    spdlog::warn("CAN {}: send failed: {} (frame dropped, not queued)", interface_, ec.message());
+    send_failing_ = true;
+  }
+  return false;
+}
+
+bool CanLink::try_open() {
+  boost::system::error_code ec;
+  const int ifindex = asio_can::interface_index(interface_, ec);
+  if (ifindex == 0) {
+    note_down_cause(DownCause::absent, "interface absent", ec);
+    return false;
+  }
+
+  socket_.open(asio_can::raw_protocol{}, ec);
+  if (ec) {
+    note_down_cause(DownCause::open_failed, "cannot open a CAN socket", ec);
+    return false;
+  }
+  const auto fail = [&](DownCause cause, const char* what) {
+    note_down_cause(cause, what, ec);
+    boost::system::error_code ignored;
+    socket_.close(ignored);
+    return false;
+  };
+
+  const bool up = interface_is_up(socket_.native_handle(), interface_, ec);
+  if (ec) return fail(DownCause::open_failed, "cannot read interface flags");
+  if (!up) return fail(DownCause::not_up, "interface down");
+
+  socket_.set_option(telemetry_filters(), ec);
+  if (ec) return fail(DownCause::open_failed, "cannot set CAN filters");
+  socket_.set_option(asio_can::option::error_mask(static_cast<int>(CAN_ERR_MASK)), ec);
+  if (ec) return fail(DownCause::open_failed, "cannot set CAN error mask");
+  socket_.set_option(asio_can::option::timestamp_ns(true), ec);
+  if (ec) return fail(DownCause::open_failed, "cannot enable receive timestamps");
+  socket_.bind(asio_can::endpoint(ifindex), ec);
+  if (ec) return fail(DownCause::open_failed, "cannot bind to the interface");
+  socket_.non_blocking(true, ec);
+  if (ec) return fail(DownCause::open_failed, "cannot make the socket non-blocking");
+
+  ++counters_.reopens;
+  ++generation_;
+  down_cause_ = DownCause::none;
+  send_failing_ = false;
+  set_state(BusState::up);
+  // Frames may already be queued, and the reactor is edge-triggered: read before waiting.
+  boost::asio::post(io_, [this, generation = generation_] { drain(generation); });
+  return true;
+}
+
+void CanLink::note_down_cause(DownCause cause, const char* what, const boost::system::error_code& ec) {
+  const bool repeated = cause == down_cause_;
+  down_cause_ = cause;
+  const auto level = repeated ? spdlog::level::debug : spdlog::level::warn;
+  const double retry_s = std::chrono::duration<double>(retry_interval_).count();
+  if (ec) {
+    spdlog::log(level, "CAN {}: {}: {}; retrying every {:g} s", interface_, what, ec.message(), retry_s);
+  } else {
+    spdlog::log(level, "CAN {}: {}; retrying every {:g} s", interface_, what, retry_s);
+  }
+}
+
+void CanLink::go_down(const boost::system::error_code& ec) {
+  boost::system::error_code ignored;
+  socket_.close(ignored);
+  ++generation_;
+  if (ec == boost::asio::error::no_such_device) {
+    down_cause_ = DownCause::absent;
+  } else if (ec == boost::asio::error::network_down) {
+    down_cause_ = DownCause::not_up;
+  } else {
+    down_cause_ = DownCause::socket_error;
+  }
+  spdlog::warn("CAN {}: {}; reopening when it is back", interface_, ec.message());
+  set_state(BusState::down);
+  schedule_retry();
+}
+
+void CanLink::schedule_retry() {
+  if (!running_) return;
+  retry_timer_.expires_after(retry_interval_);
+  retry_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec == boost::asio::error::operation_aborted || !running_ || socket_.is_open()) return;
+    if (!try_open()) schedule_retry();
+  });
+}
+
+void CanLink::wait_readable() {
+  socket_.async_wait(asio_can::raw_protocol::socket::wait_read,
+                     [this, generation = generation_](const boost::system::error_code& ec) {
+                       if (ec == boost::asio::error::operation_aborted || generation != generation_) return;
+                       if (ec) {
+                         go_down(ec);
+                         return;
+                       }
+                       drain(generation);
+                     });
+}
+
+void CanLink::drain(std::uint64_t generation) {
+  if (generation != generation_ || !socket_.is_open()) return;
+  boost::system::error_code ec;
+  for (int handled = 0; handled < kDrainBudget; ++handled) {
+    auto received = asio_can::receive_frame(socket_, ec);
+    if (!received) {
+      if (is_would_block(ec)) {
+        wait_readable();
+      } else if (ec == boost::system::errc::message_size) {
+        spdlog::debug("CAN {}: short read ignored", interface_);
+        continue;
+      } else {
+        go_down(ec);
+      }
+      return;
+    }
+    if (received->time.count() == 0) {
+      received->time = std::chrono::system_clock::now().time_since_epoch();
+    }
+    if (received->frame.error) {
+      handle_error_frame(received->frame);
+    } else {
+      ++counters_.frames_received;
+      if (frame_handler_) frame_handler_(*received);
+    }
+    // A handler may have stopped or restarted the link.
+    if (generation != generation_) return;
+  }
+  boost::asio::post(io_, [this, generation] { drain(generation); });
+}
+
+void CanLink::handle_error_frame(const CanFrame& frame) {
+  ++counters_.error_frames;
+  const std::uint32_t error_class = frame.id;
+  const std::uint8_t controller = frame.data[1];
+  spdlog::debug("CAN {}: error frame class {:#x} data {:02x}", interface_, error_class,
+                fmt::join(frame.data.begin(), frame.data.begin() + std::min<std::size_t>(frame.dlc, 8), " "));
+  if (error_class & CAN_ERR_BUSOFF) {
+    if (state_ != BusState::bus_off) spdlog::warn("CAN {}: controller bus-off", interface_);
+    set_state(BusState::bus_off);
+  } else if (error_class & CAN_ERR_RESTARTED) {
+    set_state(BusState::up);
+  } else if (error_class & CAN_ERR_CRTL) {
+    if (controller & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) {
+      if (state_ != BusState::error_passive) spdlog::warn("CAN {}: controller error-passive", interface_);
+      set_state(BusState::error_passive);
+    } else if ((state_ == BusState::error_passive &&
+                (controller & (CAN_ERR_CRTL_ACTIVE | CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING))) ||
+               (state_ == BusState::bus_off && (controller & CAN_ERR_CRTL_ACTIVE))) {
+      // Back below the passive threshold: error-active or error-warning, both transmit normally.
+      set_state(BusState::up);
+    }
+  }
+}
+
+void CanLink::set_state(BusState state) {
+  if (state == state_) return;
+  const BusState previous = state_;
+  state_ = state;
+  // The state handler's owner reports the state to the user; the cause was logged already.
+  spdlog::debug("CAN {}: bus {} (was {})", interface_, to_string(state), to_string(previous));
+  if (state_handler_) state_handler_(state);
+}
+
+}  // namespace wheeltec::daemon

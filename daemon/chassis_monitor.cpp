@@ -1,0 +1,73 @@
+#include "chassis_monitor.hpp"
+
+#include <boost/asio/error.hpp>
+#include <spdlog/spdlog.h>
+
+#include "wheeltec/telemetry_record.hpp"
+
+namespace wheeltec::daemon {
+
+ChassisMonitor::ChassisMonitor(boost::asio::io_context& io, std::chrono::nanoseconds timeout, double low_battery_v)
+    : offline_timer_(io), timeout_(timeout), low_battery_v_(low_battery_v) {}
+
+void ChassisMonitor::feed(const CanFrame& frame, std::chrono::nanoseconds time) {
+  if (const auto assembled = reassembler_.feed(frame, time)) accept(*assembled);
+}
+
+void ChassisMonitor::accept(const AssembledRecord& assembled) {
+  TelemetrySample sample;
+  sample.seq = ++seq_;
+  sample.time = assembled.time;
+  sample.record = to_physical(decode_raw(assembled.bytes));
+  sample.battery_low = sample.record.battery_v < low_battery_v_;
+  odometry_.update(sample.record.velocity, assembled.time);
+  sample.odom = odometry_.pose();
+  latest_ = sample;
+  latest_steady_ = std::chrono::steady_clock::now();
+
+  arm_offline_timer(*latest_steady_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout_));
+  set_online(true);
+  if (sample_handler_) sample_handler_(*latest_);
+}
+
+void ChassisMonitor::arm_offline_timer(std::chrono::steady_clock::time_point expiry) {
+  offline_timer_.expires_at(expiry);
+  offline_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec == boost::asio::error::operation_aborted) return;
+    // A completion already queued when a newer record re-armed the timer is stale.
+    if (std::chrono::steady_clock::now() < offline_timer_.expiry()) return;
+    set_online(false);
+  });
+}
+
+void ChassisMonitor::set_online(bool online) {
+  if (online == online_) return;
+  online_ = online;
+  if (online) {
+    spdlog::debug("chassis online (telemetry record {})", seq_);
+  } else {
+    spdlog::debug("chassis offline: no telemetry record for {:g} s", std::chrono::duration<double>(timeout_).count());
+  }
+  if (online_handler_) online_handler_(online);
+}
+
+void ChassisMonitor::link_lost() { reassembler_.reset(); }
+
+void ChassisMonitor::reset_odometry() {
+  odometry_.reset();
+  if (latest_) latest_->odom = odometry_.pose();
+}
+
+void ChassisMonitor::set_timeout(std::chrono::nanoseconds timeout) {
+  timeout_ = timeout;
+  if (online_ && latest_steady_) {
+    arm_offline_timer(*latest_steady_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout_));
+  }
+}
+
+std::optional<double> ChassisMonitor::telemetry_age_s() const {
+  if (!latest_steady_) return std::nullopt;
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - *latest_steady_).count();
+}
+
+}  // namespace wheeltec::daemon

@@ -1,0 +1,185 @@
+#include "gateway.hpp"
+
+#include <unistd.h>
+
+#include <csignal>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include <spdlog/spdlog.h>
+
+#include "wheeltec/rpc.hpp"
+#include "wheeltec/telemetry_json.hpp"
+#include "wheeltec/version.hpp"
+
+#include "logging.hpp"
+#include "stats_report.hpp"
+
+namespace wheeltec::daemon {
+namespace {
+
+// A telemetry notification is about 400 bytes; one allocation per record.
+constexpr std::size_t kTelemetryNotificationReserve = 512;
+
+std::chrono::nanoseconds seconds_to_nanos(double seconds) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(seconds));
+}
+
+}  // namespace
+
+Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig config, AccessConfig access)
+    : io_(io),
+      options_(std::move(options)),
+      config_(std::move(config)),
+      started_(std::chrono::steady_clock::now()),
+      link_(io, config_.can.interface),
+      chassis_(io, seconds_to_nanos(config_.telemetry.timeout_s), config_.telemetry.low_battery_v),
+      control_(io, link_, config_),
+      rpc_(control_, chassis_, config_.chassis.type, api_counters_, [this] { return status_json(); },
+           [this] { return stats_json(); }),
+      api_(io, config_.api, access.socket_group, std::move(access.control_policy), rpc_, api_counters_),
+      signals_(io, SIGINT, SIGTERM, SIGHUP) {}
+
+void Gateway::start() {
+  link_.on_frame([this](const asio_can::ReceivedFrame& received) { chassis_.feed(received.frame, received.time); });
+  link_.on_state([this](BusState state) { on_bus_state(state); });
+  chassis_.on_sample([this](const TelemetrySample& sample) { on_sample(sample); });
+  chassis_.on_online([this](bool online) { on_online(online); });
+  control_.on_change([this] { status_may_have_changed(); });
+  api_.on_client_gone([this](ClientId id) {
+    if (!stopping_) control_.client_gone(id);
+  });
+
+  spdlog::info("wheeltecd {} starting: interface {}, dialect {}, chassis {}", kVersion, config_.can.interface,
+               to_string(config_.can.dialect), to_string(config_.chassis.type));
+  bus_state_ = link_.state();
+  last_status_ = status_fields();
+  wait_for_signal();
+  api_.start();
+  link_.start();
+  control_.start();
+}
+
+void Gateway::on_bus_state(BusState state) {
+  const BusState previous = bus_state_;
+  bus_state_ = state;
+  if (state == BusState::down) chassis_.link_lost();
+  if (state == BusState::up && previous != BusState::up) control_.link_came_up();
+  status_may_have_changed();
+}
+
+void Gateway::on_sample(const TelemetrySample& sample) {
+  if (api_.has_telemetry_subscribers()) {
+    auto notification = std::make_shared<std::string>();
+    notification->reserve(kTelemetryNotificationReserve);
+    append_telemetry_notification(*notification, sample);
+    api_.publish_telemetry(std::move(notification));
+  }
+  status_may_have_changed();
+}
+
+void Gateway::on_online(bool online) {
+  if (online) control_.chassis_came_online();
+  status_may_have_changed();
+}
+
+void Gateway::status_may_have_changed() {
+  StatusFields fields = status_fields();
+  if (fields == last_status_) return;
+  last_status_ = fields;
+  if (!api_.has_status_subscribers()) return;
+  api_.publish_status(
+      std::make_shared<const std::string>(rpc::encode_notification(rpc::kTopicStatus, status_json())));
+}
+
+StatusFields Gateway::status_fields() const {
+  StatusFields fields;
+  fields.bus_state = link_.state();
+  fields.online = chassis_.online();
+  if (const auto& latest = chassis_.latest()) {
+    fields.stopped = latest->record.stopped;
+    fields.battery_v = round_battery_v(latest->record.battery_v);
+    fields.battery_low = latest->battery_low;
+  }
+  fields.control_enabled = control_.enabled();
+  fields.owner = control_.owner();
+  fields.target = control_.target();
+  return fields;
+}
+
+nlohmann::json Gateway::status_json() const {
+  const StatusIdentity identity{config_.can.interface, config_.chassis.type, config_.can.dialect};
+  return status_to_json(identity, status_fields(), uptime_s(), chassis_.telemetry_age_s());
+}
+
+nlohmann::json Gateway::stats_json() const {
+  return stats_to_json(link_.counters(), chassis_.counters(), api_counters_, uptime_s());
+}
+
+double Gateway::uptime_s() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+}
+
+void Gateway::wait_for_signal() {
+  signals_.async_wait([this](const boost::system::error_code& error, int signal_number) {
+    if (error) return;
+    if (signal_number == SIGHUP) {
+      reload();
+      wait_for_signal();
+    } else {
+      shutdown(signal_number);
+    }
+  });
+}
+
+void Gateway::shutdown(int signal_number) {
+  spdlog::info("{}: stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+  stopping_ = true;
+  control_.shutdown();
+  api_.close();
+  link_.stop();
+  boost::system::error_code ignored;
+  signals_.cancel(ignored);
+  io_.stop();
+}
+
+// Only what can change while running is taken over; the rest needs a restart.
+void Gateway::reload() {
+  const auto file = config_file_to_load(options_);
+  spdlog::info("SIGHUP: reloading the configuration{}{}", file ? " from " : " (no config file)", file.value_or(""));
+  GatewayConfig fresh;
+  std::optional<AccessConfig> access;
+  try {
+    fresh = load_config(options_);
+    access.emplace(resolve_access(fresh.api, ::geteuid()));
+  } catch (const ConfigError& error) {
+    spdlog::error("SIGHUP: {}; keeping the running configuration", error.what());
+    return;
+  }
+
+  const auto keep = [&](auto& fresh_value, const auto& running_value, const char* key) {
+    if (fresh_value != running_value) spdlog::warn("SIGHUP: {} changed; it takes effect after a restart", key);
+    fresh_value = running_value;
+  };
+  keep(fresh.can.interface, config_.can.interface, "can.interface");
+  keep(fresh.can.dialect, config_.can.dialect, "can.dialect");
+  keep(fresh.can.bitrate, config_.can.bitrate, "can.bitrate");
+  keep(fresh.chassis.type, config_.chassis.type, "chassis.type");
+  keep(fresh.chassis.ackermann_z, config_.chassis.ackermann_z, "chassis.ackermann_z");
+  keep(fresh.api.socket, config_.api.socket, "api.socket");
+  keep(fresh.api.mode, config_.api.mode, "api.mode");
+  keep(fresh.api.group, config_.api.group, "api.group");
+
+  config_ = std::move(fresh);
+  set_log_level(config_.log.level);
+  control_.apply(config_);
+  chassis_.set_timeout(seconds_to_nanos(config_.telemetry.timeout_s));
+  chassis_.set_low_battery_v(config_.telemetry.low_battery_v);
+  api_.set_policy(std::move(access->control_policy));
+  api_.set_max_clients(config_.api.max_clients);
+  spdlog::info("SIGHUP: configuration reloaded");
+  status_may_have_changed();
+}
+
+}  // namespace wheeltec::daemon

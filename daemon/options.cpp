@@ -1,0 +1,108 @@
+#include "options.hpp"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/version.hpp"
+
+namespace wheeltec::daemon {
+namespace {
+
+std::string read_config_file(const std::string& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) {
+    throw ConfigError(fmt::format("cannot read config file {}: {}", path, std::strerror(errno)));
+  }
+  if (S_ISDIR(info.st_mode)) throw ConfigError(fmt::format("cannot read config file {}: is a directory", path));
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw ConfigError(fmt::format("cannot read config file {}: {}", path, std::strerror(errno)));
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw ConfigError(fmt::format("cannot read config file {}: read error", path));
+  return text.str();
+}
+
+// The flags as a config document, so that the library checks them like file values.
+nlohmann::json flags_as_config(const Options& options) {
+  nlohmann::json document = nlohmann::json::object();
+  if (options.interface) document["can"]["interface"] = *options.interface;
+  if (options.dialect) document["can"]["dialect"] = *options.dialect;
+  if (options.chassis) document["chassis"]["type"] = *options.chassis;
+  if (options.socket) document["api"]["socket"] = *options.socket;
+  if (options.log_level) document["log"]["level"] = *options.log_level;
+  return document;
+}
+
+}  // namespace
+
+std::variant<Options, int> parse_command_line(int argc, char** argv) {
+  Options options;
+  CLI::App app{"wheeltecd: WHEELTEC chassis gateway, SocketCAN to JSON-RPC over a Unix socket", "wheeltecd"};
+  app.set_version_flag("--version", std::string("wheeltecd ") + kVersion, "Print the version and exit");
+  app.add_option("--config", options.config_file, fmt::format("Config file (JSON); default {} if it exists", kDefaultConfigFile))
+      ->type_name("FILE");
+  app.add_option("--interface", options.interface, "CAN interface, overrides can.interface")->type_name("IFACE");
+  app.add_option("--socket", options.socket, "API socket path, overrides api.socket")->type_name("PATH");
+  app.add_option("--chassis", options.chassis, "Chassis type (diff, ackermann, mecanum, omni, tank, 4wd), overrides chassis.type")
+      ->type_name("TYPE")
+      ->check(CLI::IsMember({"diff", "ackermann", "mecanum", "omni", "tank", "4wd"}).description(""));
+  app.add_option("--dialect", options.dialect, "CAN dialect, overrides can.dialect")
+      ->type_name("manual|0x181")
+      ->check(CLI::IsMember({"manual", "0x181"}).description(""));
+  app.add_option("--log-level", options.log_level, "Log level, overrides log.level")
+      ->type_name("trace|debug|info|warn|error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}).description(""));
+  app.add_flag("--check-config", options.check_config, "Validate the merged configuration, print it as JSON and exit");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::CallForVersion&) {
+    std::cout << "wheeltecd " << kVersion << "\n";
+    return 0;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "wheeltecd: " << error.what() << " (see --help)\n";
+    return 2;
+  }
+  return options;
+}
+
+std::optional<std::string> config_file_to_load(const Options& options) {
+  if (options.config_file) return options.config_file;
+  struct stat info {};
+  if (::stat(kDefaultConfigFile, &info) == 0) return std::string(kDefaultConfigFile);
+  return std::nullopt;
+}
+
+GatewayConfig load_config(const Options& options) {
+  GatewayConfig config;
+  if (const auto file = config_file_to_load(options)) {
+    const std::string text = read_config_file(*file);
+    try {
+      config = parse_config(text);
+    } catch (const ConfigError& error) {
+      throw ConfigError(fmt::format("{}: {}", *file, error.what()));
+    }
+  }
+  try {
+    apply_config(flags_as_config(options), config);
+  } catch (const ConfigError& error) {
+    throw ConfigError(fmt::format("command line: {}", error.what()));
+  }
+  validate_config(config);
+  return config;
+}
+
+}  // namespace wheeltec::daemon

@@ -1,0 +1,145 @@
+#include "rpc_handler.hpp"
+
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "wheeltec/telemetry_json.hpp"
+#include "wheeltec/version.hpp"
+
+namespace wheeltec::daemon {
+namespace {
+
+using json = nlohmann::json;
+
+bool is_blank(std::string_view line) {
+  return line.find_first_not_of(" \t\r") == std::string_view::npos;
+}
+
+json topics_of(const ClientState& client) {
+  json topics = json::array();
+  if (client.wants_telemetry) topics.push_back(rpc::kTopicTelemetry);
+  if (client.wants_status) topics.push_back(rpc::kTopicStatus);
+  return topics;
+}
+
+}  // namespace
+
+RpcHandler::RpcHandler(ControlLoop& control, ChassisMonitor& chassis, ChassisType chassis_type,
+                       ApiCounters& counters, JsonSource status, JsonSource stats)
+    : control_(control),
+      chassis_(chassis),
+      chassis_type_(chassis_type),
+      counters_(counters),
+      status_(std::move(status)),
+      stats_(std::move(stats)) {}
+
+std::optional<std::string> RpcHandler::handle_line(ClientState& client, std::string_view line) {
+  if (is_blank(line)) return std::nullopt;
+  ++counters_.requests;
+
+  auto parsed = rpc::parse_request(line);
+  if (auto* error = std::get_if<rpc::Error>(&parsed)) {
+    ++counters_.request_errors;
+    return rpc::encode_error(*error);
+  }
+  const auto& request = std::get<rpc::Request>(parsed);
+
+  // The latest record is serialised straight into the response, not through a json tree.
+  if (request.method == "telemetry" && !rpc::expect_no_params(request) && chassis_.latest()) {
+    if (request.is_notification) return std::nullopt;
+    return telemetry_response(request);
+  }
+
+  Outcome outcome = dispatch(client, request);
+  if (auto* error = std::get_if<rpc::Error>(&outcome)) {
+    ++counters_.request_errors;
+    if (request.is_notification) return std::nullopt;
+    error->id = request.id;
+    return rpc::encode_error(*error);
+  }
+  if (request.is_notification) return std::nullopt;
+  return rpc::encode_result(request.id, std::get<json>(outcome));
+}
+
+RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request& request) {
+  const std::string& method = request.method;
+  if (method == "drive") return drive(client, request);
+  if (method == "subscribe") return subscribe(client, request, true);
+  if (method == "unsubscribe") return subscribe(client, request, false);
+
+  const bool known = method == "version" || method == "status" || method == "telemetry" || method == "stop" ||
+                     method == "enable" || method == "disable" || method == "reset_odometry" || method == "stats";
+  if (!known) return rpc::Error{rpc::kMethodNotFound, fmt::format("unknown method \"{}\"", method), request.id};
+  if (auto error = rpc::expect_no_params(request)) return *std::move(error);
+
+  if (method == "version") return json{{"version", kVersion}, {"protocol", kProtocolVersion}};
+  if (method == "status") return status_();
+  if (method == "stats") return stats_();
+  if (method == "telemetry") return rpc::Error{rpc::kNoTelemetry, "no telemetry yet", request.id};
+  if (method == "stop") {
+    control_.stop();
+    return json::object();
+  }
+  if (method == "reset_odometry") {
+    chassis_.reset_odometry();
+    return json::object();
+  }
+  if (auto error = require_control_permission(client, request)) return *std::move(error);
+  if (method == "enable") {
+    control_.enable();
+  } else {
+    control_.disable();
+  }
+  return json::object();
+}
+
+RpcHandler::Outcome RpcHandler::drive(ClientState& client, const rpc::Request& request) {
+  if (auto error = require_control_permission(client, request)) return *std::move(error);
+  auto params = rpc::parse_drive_params(request, chassis_type_);
+  if (auto* error = std::get_if<rpc::Error>(&params)) return std::move(*error);
+
+  const DriveResult result = control_.drive(client.id, std::get<Velocity>(params));
+  switch (result.outcome) {
+    case DriveOutcome::accepted:
+      return json{{"vx", result.sent.vx}, {"vy", result.sent.vy}, {"wz", result.sent.wz}, {"clamped", result.clamped}};
+    case DriveOutcome::control_held: {
+      const auto owner = control_.owner();
+      return rpc::Error{rpc::kControlHeld,
+                        owner ? fmt::format("control is held by client {}", *owner) : "control is held by another client",
+                        request.id};
+    }
+    case DriveOutcome::control_disabled:
+      return rpc::Error{rpc::kControlDisabled, "control is disabled (send enable first)", request.id};
+    case DriveOutcome::bus_down:
+      return rpc::Error{rpc::kBusDown, "the CAN bus is down", request.id};
+  }
+  return rpc::Error{rpc::kInternalError, "unexpected drive outcome", request.id};
+}
+
+RpcHandler::Outcome RpcHandler::subscribe(ClientState& client, const rpc::Request& request, bool subscribe) {
+  auto topics = rpc::parse_topics(request);
+  if (auto* error = std::get_if<rpc::Error>(&topics)) return std::move(*error);
+  for (const std::string& topic : std::get<std::vector<std::string>>(topics)) {
+    if (topic == rpc::kTopicTelemetry) client.wants_telemetry = subscribe;
+    if (topic == rpc::kTopicStatus) client.wants_status = subscribe;
+  }
+  return json{{"topics", topics_of(client)}};
+}
+
+std::optional<rpc::Error> RpcHandler::require_control_permission(const ClientState& client,
+                                                                 const rpc::Request& request) const {
+  if (!client.control_refusal) return std::nullopt;
+  return rpc::Error{rpc::kNotPermitted, *client.control_refusal, request.id};
+}
+
+std::string RpcHandler::telemetry_response(const rpc::Request& request) const {
+  std::string out = R"({"jsonrpc":"2.0","result":)";
+  append_telemetry_json(out, *chassis_.latest());
+  out += R"(,"id":)";
+  out += request.id.dump(-1, ' ', false, json::error_handler_t::replace);
+  out += "}\n";
+  return out;
+}
+
+}  // namespace wheeltec::daemon

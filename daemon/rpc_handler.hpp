@@ -1,0 +1,50 @@
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/rpc.hpp"
+#include "wheeltec/types.hpp"
+
+#include "api_counters.hpp"
+#include "chassis_monitor.hpp"
+#include "client_state.hpp"
+#include "control_loop.hpp"
+
+namespace wheeltec::daemon {
+
+// The methods of the JSON API (spec section 2): one request line in, one response out.
+class RpcHandler {
+ public:
+  using JsonSource = std::function<nlohmann::json()>;
+
+  RpcHandler(ControlLoop& control, ChassisMonitor& chassis, ChassisType chassis_type, ApiCounters& counters,
+             JsonSource status, JsonSource stats);
+
+  // The response line (with '\n') to a request line (without it); empty for an empty
+  // line and for notifications, which are carried out but never answered.
+  std::optional<std::string> handle_line(ClientState& client, std::string_view line);
+
+ private:
+  using Outcome = std::variant<nlohmann::json, rpc::Error>;
+
+  Outcome dispatch(ClientState& client, const rpc::Request& request);
+  Outcome drive(ClientState& client, const rpc::Request& request);
+  Outcome subscribe(ClientState& client, const rpc::Request& request, bool subscribe);
+  std::optional<rpc::Error> require_control_permission(const ClientState& client, const rpc::Request& request) const;
+  std::string telemetry_response(const rpc::Request& request) const;
+
+  ControlLoop& control_;
+  ChassisMonitor& chassis_;
+  ChassisType chassis_type_;
+  ApiCounters& counters_;
+  JsonSource status_;
+  JsonSource stats_;
+};
+
+}  // namespace wheeltec::daemon

@@ -1,0 +1,46 @@
+#include "status_report.hpp"
+
+#include <cmath>
+
+#include "wheeltec/version.hpp"
+
+namespace wheeltec::daemon {
+namespace {
+
+using json = nlohmann::json;
+
+// Divides by an exact power of ten so that e.g. 22.58 prints as 22.58, not 22.580000000000002.
+double round_to(double value, double scale) { return std::round(value * scale) / scale; }
+
+template <typename T>
+json optional_json(const std::optional<T>& value) {
+  return value ? json(*value) : json(nullptr);
+}
+
+}  // namespace
+
+double round_battery_v(double volts) { return round_to(volts, 100.0); }
+
+json status_to_json(const StatusIdentity& identity, const StatusFields& fields, double uptime_s,
+                    std::optional<double> telemetry_age_s) {
+  if (telemetry_age_s) telemetry_age_s = round_to(*telemetry_age_s, 1000.0);
+  return json{
+      {"version", kVersion},
+      {"uptime_s", round_to(uptime_s, 1000.0)},
+      {"bus", {{"interface", identity.interface}, {"state", to_string(fields.bus_state)}}},
+      {"chassis",
+       {{"type", to_string(identity.chassis_type)},
+        {"dialect", to_string(identity.dialect)},
+        {"online", fields.online},
+        {"telemetry_age_s", optional_json(telemetry_age_s)},
+        {"stopped", optional_json(fields.stopped)},
+        {"battery_v", optional_json(fields.battery_v)},
+        {"battery_low", optional_json(fields.battery_low)}}},
+      {"control",
+       {{"enabled", fields.control_enabled},
+        {"owner", optional_json(fields.owner)},
+        {"target", {{"vx", fields.target.vx}, {"vy", fields.target.vy}, {"wz", fields.target.wz}}}}},
+  };
+}
+
+}  // namespace wheeltec::daemon

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <optional>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/control_arbiter.hpp"
+#include "wheeltec/types.hpp"
+
+#include "can_link.hpp"
+
+namespace wheeltec::daemon {
+
+// The status fields whose change is announced to status subscribers: everything but
+// uptime_s and telemetry_age_s. Cheap to build and compare on every record.
+struct StatusFields {
+  BusState bus_state = BusState::down;
+  bool online = false;
+  std::optional<bool> stopped;
+  std::optional<double> battery_v;  // rounded to 0.01 V
+  std::optional<bool> battery_low;
+  bool control_enabled = false;
+  std::optional<ClientId> owner;
+  Velocity target;
+  friend bool operator==(const StatusFields&, const StatusFields&) = default;
+};
+
+// What the status object says that never changes while the daemon runs.
+struct StatusIdentity {
+  std::string_view interface;
+  ChassisType chassis_type = ChassisType::mecanum;
+  Dialect dialect = Dialect::manual;
+};
+
+double round_battery_v(double volts);  // to 0.01 V
+
+// The status object of spec section 2.
+nlohmann::json status_to_json(const StatusIdentity& identity, const StatusFields& fields, double uptime_s,
+                              std::optional<double> telemetry_age_s);
+
+}  // namespace wheeltec::daemon

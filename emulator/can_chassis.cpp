@@ -1,0 +1,232 @@
+#include "can_chassis.hpp"
+
+#include <cerrno>
+
+#include <boost/asio/error.hpp>
+#include <spdlog/spdlog.h>
+
+#include "can_socket.hpp"
+#include "wheeltec/asio_can/frame_io.hpp"
+
+namespace wheeltec::emulator {
+
+namespace {
+
+constexpr auto kControlPeriod = std::chrono::milliseconds(10);
+constexpr auto kReopenInterval = std::chrono::seconds(1);
+// Frames handled per wake-up, so that a flood of frames cannot starve the timers.
+constexpr int kMaxFramesPerWakeup = 256;
+// Behind by more than this (the process was stopped), timers restart from now instead of catching up.
+constexpr auto kMaxLag = std::chrono::seconds(1);
+
+template <class Duration>
+Duration from_seconds(double seconds) {
+  return std::chrono::duration_cast<Duration>(std::chrono::duration<double>(seconds));
+}
+
+EmulatorSettings model_settings(const EmulatorOptions& options, std::uint32_t seed) {
+  EmulatorSettings settings;
+  settings.type = options.chassis;
+  settings.dialect = options.dialect;
+  settings.boot_delay = from_seconds<Nanos>(options.boot_delay_s);
+  settings.battery_v = options.battery_v;
+  settings.seed = seed;
+  return settings;
+}
+
+bool is_would_block(const boost::system::error_code& ec) {
+  return ec == boost::asio::error::would_block || ec == boost::asio::error::try_again;
+}
+
+// The socket lost its interface (it was deleted); only a new socket can get it back.
+bool is_interface_gone(const boost::system::error_code& ec) {
+  return ec.value() == ENODEV || ec.value() == ENXIO || ec.value() == EBADF;
+}
+
+}  // namespace
+
+CanChassis::CanChassis(boost::asio::io_context& io, const EmulatorOptions& options, std::uint32_t seed)
+    : options_(options),
+      model_(model_settings(options, seed)),
+      faults_(options.faults, seed ^ 0x9E3779B9u),
+      socket_(io),
+      control_timer_(io),
+      telemetry_timer_(io),
+      reopen_timer_(io),
+      telemetry_period_(from_seconds<Clock::duration>(1.0 / options.telemetry_hz)) {}
+
+std::optional<std::string> CanChassis::start() {
+  if (auto error = open_chassis_socket(socket_, options_.interface)) return error;
+  power_on_ = Clock::now();
+  next_control_ = power_on_ + kControlPeriod;
+  next_telemetry_ = power_on_ + telemetry_period_;
+  control_timer_.expires_at(next_control_);
+  control_timer_.async_wait([this](const boost::system::error_code& ec) { on_control_period(ec); });
+  telemetry_timer_.expires_at(next_telemetry_);
+  telemetry_timer_.async_wait([this](const boost::system::error_code& ec) { on_telemetry_period(ec); });
+  wait_for_frames();
+  if (model_.booting()) spdlog::info("booting: motors off, flag_stop 1 for {} s", options_.boot_delay_s);
+  return std::nullopt;
+}
+
+void CanChassis::advance_model() {
+  const AdvanceEvents events = model_.advance_to(Clock::now() - power_on_);
+  if (events.boot_finished) spdlog::info("boot finished: motors on, flag_stop 0");
+  if (events.kept_command_applied) {
+    const ControlCommand& c = model_.command();
+    spdlog::info("CAN control taken (0x181): acting on the command received during boot, X {} Y {} Z {}", c.x, c.y,
+                 c.z);
+  }
+}
+
+void CanChassis::on_control_period(const boost::system::error_code& ec) {
+  if (ec) return;
+  advance_model();
+  const auto now = Clock::now();
+  next_control_ += kControlPeriod;
+  if (now - next_control_ > kMaxLag) next_control_ = now + kControlPeriod;
+  control_timer_.expires_at(next_control_);
+  control_timer_.async_wait([this](const boost::system::error_code& e) { on_control_period(e); });
+}
+
+void CanChassis::on_telemetry_period(const boost::system::error_code& ec) {
+  if (ec) return;
+  const auto now = Clock::now();
+  if (options_.silent_after_s && now - power_on_ >= from_seconds<Clock::duration>(*options_.silent_after_s)) {
+    spdlog::info("telemetry silent from now on (--silent-after {} s); still receiving commands",
+                 *options_.silent_after_s);
+    return;
+  }
+  advance_model();
+  send_telemetry();
+  next_telemetry_ += telemetry_period_;
+  if (now - next_telemetry_ > kMaxLag) next_telemetry_ = now + telemetry_period_;
+  telemetry_timer_.expires_at(next_telemetry_);
+  telemetry_timer_.async_wait([this](const boost::system::error_code& e) { on_telemetry_period(e); });
+}
+
+void CanChassis::send_telemetry() {
+  if (!socket_.is_open()) return;
+  TelemetryGroup group = make_telemetry_group(encode_record(model_.telemetry()));
+  faults_.apply(group);
+  for (std::size_t i = 0; i < group.count; ++i) {
+    if (!send(group.frames[i])) break;
+  }
+  ++groups_sent_;
+}
+
+bool CanChassis::send(const CanFrame& frame) {
+  boost::system::error_code ec;
+  if (asio_can::send_frame(socket_, frame, ec)) {
+    note_link_working();
+    return true;
+  }
+  ++frames_lost_;
+  if (is_interface_gone(ec)) {
+    lose_interface(ec);
+    return false;
+  }
+  if (ec.value() == ENETDOWN) {
+    note_link_error(ec);
+  } else {
+    spdlog::debug("frame 0x{:03X} not sent: {} ({} lost so far)", frame.id, ec.message(), frames_lost_);
+  }
+  return true;
+}
+
+void CanChassis::wait_for_frames() {
+  socket_.async_wait(asio_can::raw_protocol::socket::wait_read, [this](const boost::system::error_code& ec) {
+    if (ec == boost::asio::error::operation_aborted) return;
+    if (ec) {
+      lose_interface(ec);
+      return;
+    }
+    receive_frames();
+  });
+}
+
+void CanChassis::receive_frames() {
+  boost::system::error_code ec;
+  bool advanced = false;
+  for (int handled = 0; handled < kMaxFramesPerWakeup && socket_.is_open(); ++handled) {
+    const std::optional<asio_can::ReceivedFrame> received = asio_can::receive_frame(socket_, ec);
+    if (!received) break;
+    note_link_working();
+    if (!advanced) {
+      advance_model();
+      advanced = true;
+    }
+    log_outcome(model_.handle_frame(received->frame), received->frame);
+  }
+  if (!ec || is_would_block(ec) || ec == boost::system::errc::message_size) {
+    wait_for_frames();
+  } else if (ec.value() == ENETDOWN) {
+    note_link_error(ec);
+    wait_for_frames();
+  } else {
+    lose_interface(ec);
+  }
+}
+
+void CanChassis::log_outcome(FrameOutcome outcome, const CanFrame& frame) const {
+  switch (outcome) {
+    case FrameOutcome::enabled:
+    case FrameOutcome::disabled:
+      spdlog::info("{} (frame 0x{:03X})", to_string(outcome), frame.id);
+      return;
+    case FrameOutcome::control_taken:
+      spdlog::info("{} (0x181 dialect)", to_string(outcome));
+      break;
+    case FrameOutcome::not_a_command:
+      spdlog::debug("frame 0x{:03X} dlc {} is not a command of the {} dialect", frame.id, frame.dlc,
+                    to_string(options_.dialect));
+      return;
+    default:
+      break;
+  }
+  if (spdlog::should_log(spdlog::level::debug)) {
+    if (const std::optional<ControlCommand> c = decode_control_frame(options_.dialect, frame)) {
+      spdlog::debug("command X {} Y {} Z {}: {}", c->x, c->y, c->z, to_string(outcome));
+    } else {
+      spdlog::debug("frame 0x{:03X}: {}", frame.id, to_string(outcome));
+    }
+  }
+}
+
+void CanChassis::note_link_error(const boost::system::error_code& ec) {
+  if (link_down_) return;
+  link_down_ = true;
+  spdlog::warn("interface {}: {}; telemetry is lost until it is up", options_.interface, ec.message());
+}
+
+void CanChassis::note_link_working() {
+  if (!link_down_) return;
+  link_down_ = false;
+  spdlog::info("interface {} works again", options_.interface);
+}
+
+void CanChassis::lose_interface(const boost::system::error_code& ec) {
+  if (!socket_.is_open()) return;
+  spdlog::warn("interface {} lost ({}); reopening it every {} s", options_.interface, ec.message(),
+               std::chrono::duration_cast<std::chrono::seconds>(kReopenInterval).count());
+  boost::system::error_code ignored;
+  socket_.close(ignored);
+  link_down_ = true;
+  reopen_timer_.expires_after(kReopenInterval);
+  reopen_timer_.async_wait([this](const boost::system::error_code& e) { on_reopen(e); });
+}
+
+void CanChassis::on_reopen(const boost::system::error_code& ec) {
+  if (ec) return;
+  if (const std::optional<std::string> error = open_chassis_socket(socket_, options_.interface)) {
+    spdlog::debug("{}", *error);
+    reopen_timer_.expires_after(kReopenInterval);
+    reopen_timer_.async_wait([this](const boost::system::error_code& e) { on_reopen(e); });
+    return;
+  }
+  link_down_ = false;
+  spdlog::info("interface {} is back", options_.interface);
+  wait_for_frames();
+}
+
+}  // namespace wheeltec::emulator

@@ -1,0 +1,100 @@
+#include "emulator_options.hpp"
+
+#include <cmath>
+#include <iostream>
+#include <map>
+
+#include <CLI/CLI.hpp>
+
+#include "wheeltec/version.hpp"
+
+namespace wheeltec::emulator {
+
+namespace {
+
+constexpr double kMaxBatteryV = 32.767;  // the record's int16 millivolts
+
+// CLI11's Range lets NaN through; this one does not.
+CLI::Validator finite_in(double low, double high, bool low_inclusive = true) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) return "expected a number, got " + text;
+        if ((low_inclusive ? value < low : value <= low) || value > high) {
+          return "value " + text + " not in " + (low_inclusive ? "[" : "(") + CLI::detail::to_string(low) + ", " +
+                 CLI::detail::to_string(high) + "]";
+        }
+        return {};
+      },
+      std::string(low_inclusive ? "[" : "(") + CLI::detail::to_string(low) + ", " + CLI::detail::to_string(high) + "]");
+}
+
+}  // namespace
+
+std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** argv) {
+  EmulatorOptions options;
+  CLI::App app("wheeltec-emu: emulates the STM32 controller of a WHEELTEC chassis on a (v)can interface",
+               "wheeltec-emu");
+  app.set_version_flag("--version", std::string("wheeltec-emu ") + std::string(kVersion));
+
+  app.add_option("--interface", options.interface, "CAN interface")->capture_default_str();
+
+  const std::map<std::string, ChassisType> chassis_types{
+      {"diff", ChassisType::diff},   {"ackermann", ChassisType::ackermann}, {"mecanum", ChassisType::mecanum},
+      {"omni", ChassisType::omni},   {"tank", ChassisType::tank},           {"4wd", ChassisType::four_wd}};
+  std::string chassis = "mecanum";
+  app.add_option("--chassis", chassis, "chassis type: diff, ackermann, mecanum, omni, tank, 4wd")
+      ->check(CLI::IsMember(chassis_types))
+      ->capture_default_str();
+  std::string dialect = "manual";
+  app.add_option("--dialect", dialect, "CAN dialect: manual (0x121 with enable frame) or 0x181")
+      ->check(CLI::IsMember({"manual", "0x181"}))
+      ->capture_default_str();
+  app.add_option("--boot-delay", options.boot_delay_s, "seconds with flag_stop = 1 and motors off after start")
+      ->check(finite_in(0.0, 86400.0))
+      ->capture_default_str();
+  app.add_option("--telemetry-hz", options.telemetry_hz, "telemetry groups per second")
+      ->check(finite_in(0.0, 1000.0, false))
+      ->capture_default_str();
+  app.add_option("--battery", options.battery_v, "battery voltage at start, V")
+      ->check(finite_in(0.0, kMaxBatteryV, false))
+      ->capture_default_str();
+  app.add_option("--drop", options.faults.drop, "probability that a telemetry frame is not sent")
+      ->check(finite_in(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--corrupt", options.faults.corrupt, "probability that a telemetry frame gets one bit flipped")
+      ->check(finite_in(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--reorder", options.faults.reorder,
+                 "probability that a telemetry frame swaps places with the next of its group")
+      ->check(finite_in(0.0, 1.0))
+      ->capture_default_str();
+  double silent_after = 0.0;
+  CLI::Option* silent = app.add_option("--silent-after", silent_after, "stop sending telemetry after SECONDS")
+                            ->check(finite_in(0.0, 1e9));
+  app.add_option("--log-level", options.log_level, "trace, debug, info, warn or error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))
+      ->capture_default_str();
+  std::uint32_t seed = 0;
+  CLI::Option* seed_option = app.add_option("--seed", seed, "seed of sensor noise and fault injection");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return EarlyExit{app.exit(e)};
+  } catch (const CLI::CallForAllHelp& e) {
+    return EarlyExit{app.exit(e)};
+  } catch (const CLI::CallForVersion& e) {
+    return EarlyExit{app.exit(e)};
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "wheeltec-emu: " << e.what() << " (see --help)\n";
+    return EarlyExit{2};
+  }
+  options.chassis = chassis_types.at(chassis);
+  options.dialect = *parse_dialect(dialect);
+  if (*silent) options.silent_after_s = silent_after;
+  if (*seed_option) options.seed = seed;
+  return options;
+}
+
+}  // namespace wheeltec::emulator

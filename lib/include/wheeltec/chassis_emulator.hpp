@@ -1,0 +1,113 @@
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <string_view>
+#include <vector>
+
+#include "wheeltec/can_frame.hpp"
+#include "wheeltec/control_frame.hpp"
+#include "wheeltec/kinematics.hpp"
+#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/types.hpp"
+#include "wheeltec/wheel_controller.hpp"
+
+namespace wheeltec {
+
+// Standard deviations of the noise on sensor readings, in raw units.
+struct SensorNoise {
+  double accel_lsb = 8.0;
+  double gyro_lsb = 1.5;
+  double battery_mv = 3.0;
+};
+
+struct EmulatorSettings {
+  ChassisType type = ChassisType::mecanum;
+  std::optional<ChassisGeometry> geometry;  // empty: default_geometry(type)
+  Dialect dialect = Dialect::manual;
+  Nanos boot_delay = std::chrono::seconds(10);
+  double battery_v = 12.0;
+  // Drain with every motor at full PWM; proportionally less under lighter load.
+  double battery_drain_v_per_s = 0.0005;
+  WheelParameters wheel;  // its wheel_diameter is replaced by the geometry's
+  SensorNoise noise;
+  std::uint32_t seed = 0;  // sensor noise and encoder start positions
+};
+
+// What the chassis did with one received frame.
+enum class FrameOutcome {
+  not_a_command,        // neither a control nor an enable frame of the dialect
+  ignored_booting,      // manual dialect: every command is ignored while booting
+  ignored_not_enabled,  // manual dialect: a control frame before the enable frame
+  kept_until_booted,    // 0x181 dialect: acted on when boot ends
+  applied,              // a control frame now being executed
+  control_taken,        // 0x181 dialect: the first command; CAN control from now on
+  enabled,              // manual dialect: enable frame, flag 1
+  enable_repeated,
+  disabled,             // manual dialect: enable frame, flag 0; the chassis stops
+  disable_repeated,
+};
+
+std::string_view to_string(FrameOutcome outcome);
+
+struct AdvanceEvents {
+  bool boot_finished = false;
+  bool kept_command_applied = false;  // 0x181 dialect: a command received during boot
+};
+
+// The STM32 controller of a WHEELTEC chassis as seen from the CAN bus: boot delay,
+// CAN control handshake per dialect, inverse kinematics, per-wheel PI loops, measured
+// velocities, IMU and battery. Deterministic: time is passed in (since power-on) and
+// randomness comes from the seed.
+class ChassisEmulator {
+ public:
+  explicit ChassisEmulator(const EmulatorSettings& settings);
+
+  // Runs every control period that ends at or before `now`.
+  AdvanceEvents advance_to(Nanos now);
+
+  // Takes effect in the next control period.
+  FrameOutcome handle_frame(const CanFrame& frame);
+
+  // The 24-byte record's fields as the firmware would send them now (draws sensor noise).
+  RawTelemetry telemetry();
+
+  Nanos time() const { return time_; }
+  bool booting() const { return time_ < settings_.boot_delay; }
+  // Manual dialect: enabled by the enable frame; 0x181: a command has been received.
+  bool under_can_control() const { return under_can_control_; }
+  const ControlCommand& command() const { return command_; }
+  const Velocity& target() const { return target_; }
+  Velocity measured_velocity() const;  // forward kinematics of the encoder speeds
+  Velocity true_velocity() const;      // forward kinematics of the motors' true speeds
+  double battery_v() const { return battery_v_; }
+  std::size_t wheel_count() const { return wheels_.size(); }
+  const WheelController& wheel(std::size_t index) const { return wheels_.at(index); }
+  const ChassisGeometry& geometry() const { return geometry_; }
+
+ private:
+  void run_period();
+  void execute(const ControlCommand& command);
+  FrameOutcome handle_manual_frame(const CanFrame& frame);
+  FrameOutcome handle_0x181_frame(const CanFrame& frame);
+  double noise(double standard_deviation);
+
+  EmulatorSettings settings_;
+  ChassisGeometry geometry_;
+  std::mt19937 random_;
+  std::vector<WheelController> wheels_;
+  WheelSpeeds wheel_targets_;
+  Nanos time_{0};
+  bool under_can_control_ = false;
+  ControlCommand command_;
+  Velocity target_;
+  std::optional<ControlCommand> kept_command_;
+  Velocity last_true_velocity_;
+  Vector3 body_acceleration_;  // m/s^2 in the robot frame, gravity excluded
+  double battery_v_;
+};
+
+}  // namespace wheeltec

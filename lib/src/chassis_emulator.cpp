@@ -1,0 +1,176 @@
+#include "wheeltec/chassis_emulator.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace wheeltec {
+
+namespace {
+
+constexpr double kGravity = 9.8;
+constexpr double kAccelLsbPerG = 16384.0;  // MPU at +-2 g
+constexpr double kAccelLsbPerMps2Exact = kAccelLsbPerG / kGravity;
+
+double seconds(Nanos duration) { return std::chrono::duration<double>(duration).count(); }
+
+std::int16_t saturate_int16(double value) {
+  constexpr double kMin = std::numeric_limits<std::int16_t>::min();
+  constexpr double kMax = std::numeric_limits<std::int16_t>::max();
+  if (!std::isfinite(value)) return 0;
+  return static_cast<std::int16_t>(std::lround(std::clamp(value, kMin, kMax)));
+}
+
+}  // namespace
+
+std::string_view to_string(FrameOutcome outcome) {
+  switch (outcome) {
+    case FrameOutcome::not_a_command: return "not a command";
+    case FrameOutcome::ignored_booting: return "ignored while booting";
+    case FrameOutcome::ignored_not_enabled: return "ignored, CAN control not enabled";
+    case FrameOutcome::kept_until_booted: return "kept until boot ends";
+    case FrameOutcome::applied: return "applied";
+    case FrameOutcome::control_taken: return "CAN control taken";
+    case FrameOutcome::enabled: return "CAN control enabled";
+    case FrameOutcome::enable_repeated: return "CAN control already enabled";
+    case FrameOutcome::disabled: return "CAN control disabled";
+    case FrameOutcome::disable_repeated: return "CAN control already disabled";
+  }
+  return "unknown";
+}
+
+ChassisEmulator::ChassisEmulator(const EmulatorSettings& settings)
+    : settings_(settings),
+      geometry_(settings.geometry.value_or(default_geometry(settings.type))),
+      random_(settings.seed),
+      wheel_targets_(inverse_kinematics(settings.type, geometry_, Velocity{})),
+      battery_v_(settings.battery_v) {
+  WheelParameters wheel = settings.wheel;
+  wheel.wheel_diameter = geometry_.wheel_diameter;
+  std::uniform_real_distribution<double> encoder_phase(0.0, 1.0);
+  wheels_.reserve(wheel_targets_.count);
+  for (std::size_t i = 0; i < wheel_targets_.count; ++i) wheels_.emplace_back(wheel, encoder_phase(random_));
+}
+
+AdvanceEvents ChassisEmulator::advance_to(Nanos now) {
+  AdvanceEvents events;
+  while (time_ + settings_.wheel.period <= now) {
+    const bool was_booting = booting();
+    run_period();
+    if (was_booting && !booting()) {
+      events.boot_finished = true;
+      if (kept_command_) {
+        under_can_control_ = true;
+        execute(*kept_command_);
+        kept_command_.reset();
+        events.kept_command_applied = true;
+      }
+    }
+  }
+  return events;
+}
+
+void ChassisEmulator::run_period() {
+  const bool motors_enabled = !booting();
+  double load = 0.0;
+  for (std::size_t i = 0; i < wheels_.size(); ++i) {
+    wheels_[i].run_period(wheel_targets_.v[i], motors_enabled);
+    load += std::abs(wheels_[i].pwm()) / settings_.wheel.pwm_limit;
+  }
+  const double dt = seconds(settings_.wheel.period);
+  time_ += settings_.wheel.period;
+
+  const Velocity velocity = true_velocity();
+  body_acceleration_.x = (velocity.vx - last_true_velocity_.vx) / dt - velocity.wz * velocity.vy;
+  body_acceleration_.y = (velocity.vy - last_true_velocity_.vy) / dt + velocity.wz * velocity.vx;
+  last_true_velocity_ = velocity;
+
+  if (!wheels_.empty()) load /= static_cast<double>(wheels_.size());
+  battery_v_ = std::max(0.0, battery_v_ - settings_.battery_drain_v_per_s * load * dt);
+}
+
+void ChassisEmulator::execute(const ControlCommand& command) {
+  command_ = command;
+  target_ = command_velocity(command);
+  if (!is_holonomic(settings_.type)) target_.vy = 0.0;
+  wheel_targets_ = inverse_kinematics(settings_.type, geometry_, target_);
+}
+
+FrameOutcome ChassisEmulator::handle_frame(const CanFrame& frame) {
+  return settings_.dialect == Dialect::manual ? handle_manual_frame(frame) : handle_0x181_frame(frame);
+}
+
+FrameOutcome ChassisEmulator::handle_manual_frame(const CanFrame& frame) {
+  if (const std::optional<bool> enable = decode_enable_frame(frame)) {
+    if (booting()) return FrameOutcome::ignored_booting;
+    if (*enable) {
+      if (under_can_control_) return FrameOutcome::enable_repeated;
+      under_can_control_ = true;
+      return FrameOutcome::enabled;
+    }
+    execute(ControlCommand{});
+    if (!under_can_control_) return FrameOutcome::disable_repeated;
+    under_can_control_ = false;
+    return FrameOutcome::disabled;
+  }
+  const std::optional<ControlCommand> command = decode_control_frame(Dialect::manual, frame);
+  if (!command) return FrameOutcome::not_a_command;
+  if (booting()) return FrameOutcome::ignored_booting;
+  if (!under_can_control_) return FrameOutcome::ignored_not_enabled;
+  execute(*command);
+  return FrameOutcome::applied;
+}
+
+FrameOutcome ChassisEmulator::handle_0x181_frame(const CanFrame& frame) {
+  const std::optional<ControlCommand> command = decode_control_frame(Dialect::id_0x181, frame);
+  if (!command) return FrameOutcome::not_a_command;
+  if (booting()) {
+    kept_command_ = *command;
+    return FrameOutcome::kept_until_booted;
+  }
+  execute(*command);
+  if (under_can_control_) return FrameOutcome::applied;
+  under_can_control_ = true;
+  return FrameOutcome::control_taken;
+}
+
+Velocity ChassisEmulator::measured_velocity() const {
+  WheelSpeeds speeds;
+  speeds.count = wheels_.size();
+  for (std::size_t i = 0; i < wheels_.size(); ++i) speeds.v[i] = wheels_[i].measured_speed();
+  return forward_kinematics(settings_.type, geometry_, speeds);
+}
+
+Velocity ChassisEmulator::true_velocity() const {
+  WheelSpeeds speeds;
+  speeds.count = wheels_.size();
+  for (std::size_t i = 0; i < wheels_.size(); ++i) speeds.v[i] = wheels_[i].speed();
+  return forward_kinematics(settings_.type, geometry_, speeds);
+}
+
+double ChassisEmulator::noise(double standard_deviation) {
+  if (!(standard_deviation > 0.0)) return 0.0;
+  return std::normal_distribution<double>(0.0, standard_deviation)(random_);
+}
+
+RawTelemetry ChassisEmulator::telemetry() {
+  const SensorNoise& sigma = settings_.noise;
+  const Velocity measured = measured_velocity();
+  RawTelemetry raw;
+  raw.flag_stop = booting() ? 1 : 0;
+  raw.vx = saturate_int16(measured.vx * 1000.0);
+  raw.vy = saturate_int16(measured.vy * 1000.0);
+  raw.vz = saturate_int16(measured.wz * 1000.0);
+  raw.accel_x = saturate_int16(body_acceleration_.x * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
+  raw.accel_y = saturate_int16(body_acceleration_.y * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
+  raw.accel_z = saturate_int16(kAccelLsbPerG + noise(sigma.accel_lsb));
+  raw.gyro_x = saturate_int16(noise(sigma.gyro_lsb));
+  raw.gyro_y = saturate_int16(noise(sigma.gyro_lsb));
+  // The firmware sends gyro z as 0 while flag_stop is set (it is calibrating then).
+  raw.gyro_z = booting() ? 0 : saturate_int16(last_true_velocity_.wz * kGyroLsbPerRadps + noise(sigma.gyro_lsb));
+  raw.battery_mv = saturate_int16(battery_v_ * 1000.0 + noise(sigma.battery_mv));
+  return raw;
+}
+
+}  // namespace wheeltec

@@ -1,0 +1,33 @@
+#include "wheeltec/control_arbiter.hpp"
+
+namespace wheeltec {
+
+ControlArbiter::ControlArbiter(Nanos command_timeout) : timeout_(command_timeout) {}
+
+bool ControlArbiter::try_drive(ClientId client, const Velocity& target, Nanos now) {
+  if (owner_ && *owner_ != client) return false;
+  owner_ = client;
+  target_ = target;
+  deadline_ = now + timeout_;
+  return true;
+}
+
+void ControlArbiter::stop() {
+  target_ = Velocity{};
+  owner_.reset();
+  deadline_.reset();
+}
+
+bool ControlArbiter::release(ClientId client) {
+  if (owner_ != client) return false;
+  stop();
+  return true;
+}
+
+bool ControlArbiter::expire(Nanos now) {
+  if (!owner_ || now < *deadline_) return false;
+  stop();
+  return true;
+}
+
+}  // namespace wheeltec

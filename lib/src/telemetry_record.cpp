@@ -1,0 +1,82 @@
+#include "wheeltec/telemetry_record.hpp"
+
+namespace wheeltec {
+
+namespace {
+
+constexpr std::size_t kChecksumIndex = 22;
+constexpr std::size_t kTailIndex = 23;
+
+std::int16_t get_be16(const RecordBytes& bytes, std::size_t at) {
+  return static_cast<std::int16_t>(static_cast<std::uint16_t>((bytes[at] << 8) | bytes[at + 1]));
+}
+
+void put_be16(RecordBytes& bytes, std::size_t at, std::int16_t value) {
+  const auto bits = static_cast<std::uint16_t>(value);
+  bytes[at] = static_cast<std::uint8_t>(bits >> 8);
+  bytes[at + 1] = static_cast<std::uint8_t>(bits & 0xFF);
+}
+
+}  // namespace
+
+std::uint8_t block_check(const std::uint8_t* bytes, std::size_t n) {
+  std::uint8_t sum = 0;
+  for (std::size_t i = 0; i < n; ++i) sum ^= bytes[i];
+  return sum;
+}
+
+RecordFault check_record(const RecordBytes& bytes) {
+  if (bytes[0] != kRecordHeader) return RecordFault::bad_header;
+  if (bytes[kTailIndex] != kRecordTail) return RecordFault::bad_tail;
+  if (bytes[kChecksumIndex] != block_check(bytes.data(), kChecksumIndex)) return RecordFault::bad_checksum;
+  return RecordFault::none;
+}
+
+RawTelemetry decode_raw(const RecordBytes& bytes) {
+  RawTelemetry raw;
+  raw.flag_stop = bytes[1];
+  raw.vx = get_be16(bytes, 2);
+  raw.vy = get_be16(bytes, 4);
+  raw.vz = get_be16(bytes, 6);
+  raw.accel_x = get_be16(bytes, 8);
+  raw.accel_y = get_be16(bytes, 10);
+  raw.accel_z = get_be16(bytes, 12);
+  raw.gyro_x = get_be16(bytes, 14);
+  raw.gyro_y = get_be16(bytes, 16);
+  raw.gyro_z = get_be16(bytes, 18);
+  raw.battery_mv = get_be16(bytes, 20);
+  return raw;
+}
+
+TelemetryRecord to_physical(const RawTelemetry& raw) {
+  TelemetryRecord record;
+  record.stopped = raw.flag_stop != 0;
+  record.velocity = {raw.vx / 1000.0, raw.vy / 1000.0, raw.vz / 1000.0};
+  record.accel = {raw.accel_x / kAccelLsbPerMps2, raw.accel_y / kAccelLsbPerMps2,
+                  raw.accel_z / kAccelLsbPerMps2};
+  record.gyro = {raw.gyro_x / kGyroLsbPerRadps, raw.gyro_y / kGyroLsbPerRadps,
+                 raw.gyro_z / kGyroLsbPerRadps};
+  record.battery_v = raw.battery_mv / 1000.0;
+  return record;
+}
+
+RecordBytes encode_record(const RawTelemetry& raw) {
+  RecordBytes bytes{};
+  bytes[0] = kRecordHeader;
+  bytes[1] = raw.flag_stop;
+  put_be16(bytes, 2, raw.vx);
+  put_be16(bytes, 4, raw.vy);
+  put_be16(bytes, 6, raw.vz);
+  put_be16(bytes, 8, raw.accel_x);
+  put_be16(bytes, 10, raw.accel_y);
+  put_be16(bytes, 12, raw.accel_z);
+  put_be16(bytes, 14, raw.gyro_x);
+  put_be16(bytes, 16, raw.gyro_y);
+  put_be16(bytes, 18, raw.gyro_z);
+  put_be16(bytes, 20, raw.battery_mv);
+  bytes[kChecksumIndex] = block_check(bytes.data(), kChecksumIndex);
+  bytes[kTailIndex] = kRecordTail;
+  return bytes;
+}
+
+}  // namespace wheeltec

@@ -1,0 +1,55 @@
+# shellcheck shell=bash
+# Shared steps of scripts/test.sh and scripts/demo.sh: install the Debian 12 build and
+# run-time dependencies when some are missing, then configure and build.
+# Sourced, not executed. Needs REPO_ROOT set by the caller.
+
+readonly WHEELTEC_DEBIAN_PACKAGES=(
+  build-essential cmake ninja-build pkg-config
+  libboost-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libcli11-dev
+  libgtest-dev libgmock-dev libsystemd-dev
+  can-utils iproute2 kmod user-mode-linux socat
+)
+
+# Prints the packages of WHEELTEC_DEBIAN_PACKAGES that are not installed.
+missing_packages() {
+  local package status
+  for package in "${WHEELTEC_DEBIAN_PACKAGES[@]}"; do
+    status=$(dpkg-query -W -f='${db:Status-Status}' "$package" 2>/dev/null) || status=
+    [[ $status == installed ]] || echo "$package"
+  done
+}
+
+# Installs missing packages with apt-get (through sudo unless we are root).
+install_dependencies() {
+  if ! command -v dpkg-query >/dev/null 2>&1; then
+    echo "setup: not a Debian system; install the equivalents of: ${WHEELTEC_DEBIAN_PACKAGES[*]}" >&2
+    return 0
+  fi
+  local missing
+  mapfile -t missing < <(missing_packages)
+  if [[ ${#missing[@]} -eq 0 ]]; then
+    echo "setup: all dependencies are installed"
+    return 0
+  fi
+  local sudo=()
+  if [[ $(id -u) -ne 0 ]]; then
+    command -v sudo >/dev/null 2>&1 || {
+      echo "setup: missing packages (${missing[*]}) and no sudo; install them as root" >&2
+      return 1
+    }
+    sudo=(sudo)
+  fi
+  echo "setup: installing ${missing[*]}"
+  "${sudo[@]}" apt-get update
+  DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
+}
+
+# Configures a fresh build directory ($BUILD_DIR, default build/) and builds everything.
+configure_and_build() {
+  BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
+  local build_type=${CMAKE_BUILD_TYPE:-RelWithDebInfo}
+  local jobs=${BUILD_JOBS:-$(nproc 2>/dev/null || echo 2)}
+  rm -rf -- "$BUILD_DIR"
+  cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE="$build_type"
+  cmake --build "$BUILD_DIR" -j "$jobs"
+}

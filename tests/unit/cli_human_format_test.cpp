@@ -1,0 +1,128 @@
+#include <gtest/gtest.h>
+
+#include "human_format.hpp"
+
+namespace wheeltecctl {
+namespace {
+
+Json spec_status() {
+  return Json::parse(R"({ "version": "0.1.0", "uptime_s": 12.3,
+    "bus":     { "interface": "can0", "state": "up" },
+    "chassis": { "type": "mecanum", "dialect": "manual", "online": true,
+                 "telemetry_age_s": 0.02, "stopped": false,
+                 "battery_v": 22.58, "battery_low": false },
+    "control": { "enabled": true, "owner": 3,
+                 "target": { "vx": 0.2, "vy": 0.0, "wz": 0.5 } } })");
+}
+
+Json spec_record() {
+  return Json::parse(R"({ "seq": 42, "time": 1763800000.123456, "stopped": false,
+    "velocity": { "vx": 0.257, "vy": 0.001, "wz": 0.0 },
+    "accel":    { "x": -0.2165, "y": -0.3361, "z": 9.8756 },
+    "gyro":     { "x": -0.00133, "y": 0.00187, "z": 0.00027 },
+    "battery":  { "voltage": 22.584, "low": false },
+    "odom":     { "x": 1.5, "y": -0.25, "yaw": 3.14159 } })");
+}
+
+TEST(CliHumanFormat, StatusBlockShowsEveryPart) {
+  EXPECT_EQ(format_status(spec_status()),
+            "daemon:   wheeltecd 0.1.0, up 12.3 s\n"
+            "bus:      can0 up\n"
+            "chassis:  mecanum, dialect manual, online (telemetry 0.02 s ago), motors enabled\n"
+            "battery:  22.58 V\n"
+            "control:  enabled, owner client 3\n"
+            "target:   vx=0.200 vy=0.000 wz=0.500\n");
+}
+
+TEST(CliHumanFormat, StatusOfOfflineChassisWithoutBatteryAndNoOwner) {
+  Json status = spec_status();
+  status["bus"]["state"] = "down";
+  status["chassis"]["online"] = false;
+  status["chassis"]["telemetry_age_s"] = nullptr;
+  status["chassis"]["battery_v"] = nullptr;
+  status["control"]["owner"] = nullptr;
+  status["control"]["enabled"] = false;
+  const std::string text = format_status(status);
+  EXPECT_NE(text.find("bus:      can0 down\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("mecanum, dialect manual, offline, motors enabled\n"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("battery:  unknown\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("control:  disabled, no owner\n"), std::string::npos) << text;
+}
+
+TEST(CliHumanFormat, StatusMarksLowBatteryAndStoppedMotors) {
+  Json status = spec_status();
+  status["chassis"]["battery_low"] = true;
+  status["chassis"]["stopped"] = true;
+  const std::string text = format_status(status);
+  EXPECT_NE(text.find("battery:  22.58 V (LOW)\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("motors stopped"), std::string::npos) << text;
+}
+
+TEST(CliHumanFormat, StatusSurvivesMissingAndMistypedFields) {
+  const std::string text = format_status(Json::parse(R"({"bus": 5, "control": {"target": "x"}})"));
+  EXPECT_NE(text.find("daemon:   wheeltecd ?, up ?\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("bus:      ? ?\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("target:   vx=? vy=? wz=?\n"), std::string::npos) << text;
+  EXPECT_FALSE(format_status(Json::array()).empty());
+}
+
+TEST(CliHumanFormat, TelemetryLine) {
+  EXPECT_EQ(format_telemetry_line(spec_record()),
+            "seq     42  vx +0.257 vy +0.001 wz +0.000  battery 22.58 V  "
+            "odom x +1.500 y -0.250 yaw +3.142");
+}
+
+TEST(CliHumanFormat, TelemetryLineFlagsLowBatteryAndStop) {
+  Json record = spec_record();
+  record["battery"]["low"] = true;
+  record["stopped"] = true;
+  const std::string line = format_telemetry_line(record);
+  EXPECT_NE(line.find("LOW BATTERY"), std::string::npos) << line;
+  EXPECT_NE(line.find("STOPPED"), std::string::npos) << line;
+  EXPECT_EQ(line.find('\n'), std::string::npos);
+}
+
+TEST(CliHumanFormat, TelemetryLineOfGarbageUsesPlaceholders) {
+  EXPECT_EQ(format_telemetry_line(Json("nonsense")),
+            "seq      ?  vx ? vy ? wz ?  battery ? V  odom x ? y ? yaw ?");
+}
+
+TEST(CliHumanFormat, StatsAreFlattenedAndAligned) {
+  const Json stats = Json::parse(R"({"frames": {"received": 10, "sent": 5},
+    "rejected": {"checksum": 1}, "clients": 2, "interface": "can0", "last": null,
+    "flags": [1, 2], "empty": {}})");
+  EXPECT_EQ(format_stats(stats),
+            "frames.received   10\n"
+            "frames.sent       5\n"
+            "rejected.checksum 1\n"
+            "clients           2\n"
+            "interface         can0\n"
+            "last              null\n"
+            "flags             [1,2]\n"
+            "empty             {}\n");
+}
+
+TEST(CliHumanFormat, EmptyStatsPrintNothing) { EXPECT_EQ(format_stats(Json::object()), ""); }
+
+TEST(CliHumanFormat, Version) {
+  EXPECT_EQ(format_version(Json::parse(R"({"version": "0.1.0", "protocol": 1})")),
+            "wheeltecd 0.1.0 (protocol 1)");
+  EXPECT_EQ(format_version(Json::object()), "wheeltecd ? (protocol ?)");
+}
+
+TEST(CliHumanFormat, DriveStartedShowsWhatWasSent) {
+  const Json result = Json::parse(R"({"vx": 0.3, "vy": 0.0, "wz": 0.5, "clamped": false})");
+  EXPECT_EQ(format_drive_started(result, {0.3, 0.0, 0.5}, 3.0),
+            "driving vx=0.300 vy=0.000 wz=0.500 for 3.0 s");
+}
+
+TEST(CliHumanFormat, DriveStartedNotesClamping) {
+  const Json result = Json::parse(R"({"vx": 1.0, "vy": 0.0, "wz": -3.0, "clamped": true})");
+  EXPECT_EQ(format_drive_started(result, {2.0, 0.0, -5.0}, 1.0),
+            "driving vx=1.000 vy=0.000 wz=-3.000 for 1.0 s (clamped to the daemon's limits; "
+            "requested vx=2.000 vy=0.000 wz=-5.000)");
+}
+
+}  // namespace
+}  // namespace wheeltecctl
