@@ -11,5 +11,18 @@ source "$REPO_ROOT/scripts/lib/setup.sh"
 
 install_dependencies
 configure_and_build
-cd "$BUILD_DIR"
-ctest --output-on-failure "$@"
+(cd "$BUILD_DIR" && ctest --output-on-failure "$@")
+
+# Further stages that need builds of their own (sanitizers, fuzzing, packaging, cross
+# builds): each is a script in scripts/test.d/, run in name order with BUILD_DIR set.
+export BUILD_DIR REPO_ROOT
+passed=0 failed=0
+for stage in "$REPO_ROOT"/scripts/test.d/*.sh; do
+  [[ -e $stage ]] || continue
+  echo "== stage $(basename "$stage")"
+  if bash "$stage"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "== stage $(basename "$stage") FAILED"; fi
+done
+if ((passed + failed > 0)); then
+  echo "stages: $passed passed, $failed failed"
+fi
+((failed == 0))

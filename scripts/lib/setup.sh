@@ -10,25 +10,25 @@ readonly WHEELTEC_DEBIAN_PACKAGES=(
   can-utils iproute2 kmod user-mode-linux socat
 )
 
-# Prints the packages of WHEELTEC_DEBIAN_PACKAGES that are not installed.
+# Prints the packages among the arguments that are not installed.
 missing_packages() {
   local package status
-  for package in "${WHEELTEC_DEBIAN_PACKAGES[@]}"; do
+  for package in "$@"; do
     status=$(dpkg-query -W -f='${db:Status-Status}' "$package" 2>/dev/null) || status=
     [[ $status == installed ]] || echo "$package"
   done
 }
 
-# Installs missing packages with apt-get (through sudo unless we are root).
-install_dependencies() {
+# Installs those of the given Debian packages that are missing, with apt-get (through
+# sudo unless we are root). Test stages call it for what only they need.
+install_packages() {
   if ! command -v dpkg-query >/dev/null 2>&1; then
-    echo "setup: not a Debian system; install the equivalents of: ${WHEELTEC_DEBIAN_PACKAGES[*]}" >&2
+    echo "setup: not a Debian system; install the equivalents of: $*" >&2
     return 0
   fi
   local missing
-  mapfile -t missing < <(missing_packages)
+  mapfile -t missing < <(missing_packages "$@")
   if [[ ${#missing[@]} -eq 0 ]]; then
-    echo "setup: all dependencies are installed"
     return 0
   fi
   local sudo=()
@@ -42,6 +42,10 @@ install_dependencies() {
   echo "setup: installing ${missing[*]}"
   "${sudo[@]}" apt-get update
   DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
+}
+
+install_dependencies() {
+  install_packages "${WHEELTEC_DEBIAN_PACKAGES[@]}"
 }
 
 # Configures a fresh build directory ($BUILD_DIR, default build/) and builds everything.
