@@ -1,5 +1,6 @@
 #include "wheeltec/config.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -369,7 +370,13 @@ INSTANTIATE_TEST_SUITE_P(
         RangeCase{R"({"api": {"socket": "/"}})", ""},
         RangeCase{R"({"api": {"socket": ""}})", "api.socket"},
         RangeCase{R"({"api": {"socket": "run/wheeltecd.sock"}})", "api.socket"},
-        RangeCase{R"({"api": {"socket": "~/wheeltecd.sock"}})", "api.socket"}));
+        RangeCase{R"({"api": {"socket": "~/wheeltecd.sock"}})", "api.socket"}),
+    [](const ::testing::TestParamInfo<RangeCase>& info) {
+      const std::string_view key = info.param.key;
+      std::string name = "case" + std::to_string(info.index) + (key.empty() ? "_valid" : "_bad_");
+      for (const char c : key) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+      return name;
+    });
 
 TEST(ConfigValidate, SocketPathMustFitSunPath) {
   GatewayConfig c;
