@@ -7,12 +7,14 @@
 #include <string>
 #include <utility>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/rpc.hpp"
 #include "wheeltec/telemetry_json.hpp"
 #include "wheeltec/version.hpp"
 
+#include "link_info.hpp"
 #include "logging.hpp"
 #include "stats_report.hpp"
 
@@ -39,7 +41,8 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
       rpc_(control_, chassis_, config_.chassis.type, api_counters_, [this] { return status_json(); },
            [this] { return stats_json(); }),
       api_(io, config_.api, access.socket_group, std::move(access.control_policy), rpc_, api_counters_),
-      signals_(io, SIGINT, SIGTERM, SIGHUP) {}
+      signals_(io, SIGINT, SIGTERM, SIGHUP),
+      notifier_(io) {}
 
 void Gateway::start() {
   link_.on_frame([this](const asio_can::ReceivedFrame& received) { chassis_.feed(received.frame, received.time); });
@@ -49,6 +52,7 @@ void Gateway::start() {
   control_.on_change([this] { status_may_have_changed(); });
   api_.on_client_gone([this](ClientId id) {
     if (!stopping_) control_.client_gone(id);
+    if (notifier_.active()) notifier_.status(status_line());
   });
 
   spdlog::info("wheeltecd {} starting: interface {}, dialect {}, chassis {}", kVersion, config_.can.interface,
@@ -58,14 +62,21 @@ void Gateway::start() {
   wait_for_signal();
   api_.start();
   link_.start();
+  // A link that came up was checked already (on_bus_state); a down one may still say its bitrate.
+  if (link_.state() != BusState::up) check_link_bitrate(config_.can.interface, config_.can.bitrate);
   control_.start();
+  notifier_.start([this] { return status_line(); });
+  notifier_.ready();
 }
 
 void Gateway::on_bus_state(BusState state) {
   const BusState previous = bus_state_;
   bus_state_ = state;
   if (state == BusState::down) chassis_.link_lost();
-  if (state == BusState::up && previous != BusState::up) control_.link_came_up();
+  if (state == BusState::up && previous != BusState::up) {
+    control_.link_came_up();
+    check_link_bitrate(config_.can.interface, config_.can.bitrate);
+  }
   status_may_have_changed();
 }
 
@@ -88,6 +99,7 @@ void Gateway::status_may_have_changed() {
   StatusFields fields = status_fields();
   if (fields == last_status_) return;
   last_status_ = fields;
+  if (notifier_.active()) notifier_.status(status_line());
   if (!api_.has_status_subscribers()) return;
   api_.publish_status(
       std::make_shared<const std::string>(rpc::encode_notification(rpc::kTopicStatus, status_json())));
@@ -106,6 +118,15 @@ StatusFields Gateway::status_fields() const {
   fields.owner = control_.owner();
   fields.target = control_.target();
   return fields;
+}
+
+std::string Gateway::status_line() const {
+  std::string line = fmt::format("bus {}, chassis {}", to_string(last_status_.bus_state),
+                                 last_status_.online ? "online" : "offline");
+  if (last_status_.battery_v) line += fmt::format(", battery {:.2f} V", *last_status_.battery_v);
+  line += fmt::format(", {} client{}", api_counters_.clients, api_counters_.clients == 1 ? "" : "s");
+  if (last_status_.control_enabled) line += ", control enabled";
+  return line;
 }
 
 nlohmann::json Gateway::status_json() const {
@@ -136,6 +157,7 @@ void Gateway::wait_for_signal() {
 void Gateway::shutdown(int signal_number) {
   spdlog::info("{}: stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
   stopping_ = true;
+  notifier_.stopping();
   control_.shutdown();
   api_.close();
   link_.stop();

@@ -17,6 +17,7 @@
 #include "options.hpp"
 #include "rpc_handler.hpp"
 #include "status_report.hpp"
+#include "systemd_notifier.hpp"
 
 namespace wheeltec::daemon {
 
@@ -35,6 +36,7 @@ class Gateway {
   void on_online(bool online);
   void status_may_have_changed();
   StatusFields status_fields() const;
+  std::string status_line() const;  // for systemd's STATUS=
   nlohmann::json status_json() const;
   nlohmann::json stats_json() const;
   double uptime_s() const;
@@ -54,6 +56,7 @@ class Gateway {
   RpcHandler rpc_;
   ApiServer api_;
   boost::asio::signal_set signals_;
+  SystemdNotifier notifier_;
   BusState bus_state_ = BusState::down;
   StatusFields last_status_;
   bool stopping_ = false;

@@ -4,7 +4,8 @@
 
 namespace wheeltec::daemon {
 
-// Log lines go to stderr (journald adds the time stamps under systemd).
+// Log records go to the systemd journal (with their priority) when stderr is connected to
+// it, which systemd announces in JOURNAL_STREAM; to stderr otherwise.
 void setup_logging(const std::string& level);
 
 // level: trace, debug, info, warn, error (log.level).

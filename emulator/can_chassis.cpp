@@ -14,6 +14,8 @@ namespace {
 
 constexpr auto kControlPeriod = std::chrono::milliseconds(10);
 constexpr auto kReopenInterval = std::chrono::seconds(1);
+// How long a rebooting chassis is off (silent and deaf) before it boots again.
+constexpr auto kRebootOffTime = std::chrono::milliseconds(500);
 // Frames handled per wake-up, so that a flood of frames cannot starve the timers.
 constexpr int kMaxFramesPerWakeup = 256;
 // Behind by more than this (the process was stopped), timers restart from now instead of catching up.
@@ -28,6 +30,10 @@ EmulatorSettings model_settings(const EmulatorOptions& options, std::uint32_t se
   EmulatorSettings settings;
   settings.type = options.chassis;
   settings.dialect = options.dialect;
+  settings.ackermann_z = options.ackermann_z;
+  settings.geometry = options.geometry;
+  settings.wheel.encoder_lines = options.encoder_lines;
+  settings.wheel.gear_ratio = options.gear_ratio;
   settings.boot_delay = from_seconds<Nanos>(options.boot_delay_s);
   settings.battery_v = options.battery_v;
   settings.seed = seed;
@@ -43,6 +49,20 @@ bool is_interface_gone(const boost::system::error_code& ec) {
   return ec.value() == ENODEV || ec.value() == ENXIO || ec.value() == EBADF;
 }
 
+// The record as produced, before any fault is injected: lets a test tell which
+// records on the bus are genuine.
+void log_record(const RecordBytes& record) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string text;
+  text.reserve(3 * record.size());
+  for (const std::uint8_t byte : record) {
+    if (!text.empty()) text += ' ';
+    text += kHex[byte >> 4];
+    text += kHex[byte & 0x0F];
+  }
+  spdlog::trace("record {}", text);
+}
+
 }  // namespace
 
 CanChassis::CanChassis(boost::asio::io_context& io, const EmulatorOptions& options, std::uint32_t seed)
@@ -53,11 +73,14 @@ CanChassis::CanChassis(boost::asio::io_context& io, const EmulatorOptions& optio
       control_timer_(io),
       telemetry_timer_(io),
       reopen_timer_(io),
+      reboot_timer_(io),
+      seed_(seed),
       telemetry_period_(from_seconds<Clock::duration>(1.0 / options.telemetry_hz)) {}
 
 std::optional<std::string> CanChassis::start() {
   if (auto error = open_chassis_socket(socket_, options_.interface)) return error;
-  power_on_ = Clock::now();
+  started_ = Clock::now();
+  power_on_ = started_;
   next_control_ = power_on_ + kControlPeriod;
   next_telemetry_ = power_on_ + telemetry_period_;
   control_timer_.expires_at(next_control_);
@@ -65,11 +88,40 @@ std::optional<std::string> CanChassis::start() {
   telemetry_timer_.expires_at(next_telemetry_);
   telemetry_timer_.async_wait([this](const boost::system::error_code& ec) { on_telemetry_period(ec); });
   wait_for_frames();
+  if (options_.reboot_after_s) {
+    reboot_timer_.expires_at(started_ + from_seconds<Clock::duration>(*options_.reboot_after_s));
+    reboot_timer_.async_wait([this](const boost::system::error_code& ec) {
+      if (!ec) power_off();
+    });
+  }
   if (model_.booting()) spdlog::info("booting: motors off, flag_stop 1 for {} s", options_.boot_delay_s);
   return std::nullopt;
 }
 
+void CanChassis::power_off() {
+  advance_model();
+  powered_ = false;
+  spdlog::info("rebooting (--reboot-after {} s): off for {} ms, then booting again", *options_.reboot_after_s,
+               std::chrono::duration_cast<std::chrono::milliseconds>(kRebootOffTime).count());
+  reboot_timer_.expires_after(kRebootOffTime);
+  reboot_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (!ec) power_on();
+  });
+}
+
+void CanChassis::power_on() {
+  EmulatorSettings settings = model_settings(options_, ++seed_);
+  settings.battery_v = model_.battery_v();
+  model_ = ChassisEmulator(settings);
+  power_on_ = Clock::now();
+  next_control_ = power_on_ + kControlPeriod;
+  powered_ = true;
+  spdlog::info("powered on again: CAN control not enabled, no command; booting: motors off, flag_stop 1 for {} s",
+               options_.boot_delay_s);
+}
+
 void CanChassis::advance_model() {
+  if (!powered_) return;
   const AdvanceEvents events = model_.advance_to(Clock::now() - power_on_);
   if (events.boot_finished) spdlog::info("boot finished: motors on, flag_stop 0");
   if (events.kept_command_applied) {
@@ -92,7 +144,7 @@ void CanChassis::on_control_period(const boost::system::error_code& ec) {
 void CanChassis::on_telemetry_period(const boost::system::error_code& ec) {
   if (ec) return;
   const auto now = Clock::now();
-  if (options_.silent_after_s && now - power_on_ >= from_seconds<Clock::duration>(*options_.silent_after_s)) {
+  if (options_.silent_after_s && now - started_ >= from_seconds<Clock::duration>(*options_.silent_after_s)) {
     spdlog::info("telemetry silent from now on (--silent-after {} s); still receiving commands",
                  *options_.silent_after_s);
     return;
@@ -100,14 +152,18 @@ void CanChassis::on_telemetry_period(const boost::system::error_code& ec) {
   advance_model();
   send_telemetry();
   next_telemetry_ += telemetry_period_;
-  if (now - next_telemetry_ > kMaxLag) next_telemetry_ = now + telemetry_period_;
+  // Ticks missed while the process was not scheduled are skipped, not made up for with
+  // a burst of groups that all report the same moment.
+  if (next_telemetry_ <= now) next_telemetry_ += telemetry_period_ * ((now - next_telemetry_) / telemetry_period_ + 1);
   telemetry_timer_.expires_at(next_telemetry_);
   telemetry_timer_.async_wait([this](const boost::system::error_code& e) { on_telemetry_period(e); });
 }
 
 void CanChassis::send_telemetry() {
-  if (!socket_.is_open()) return;
-  TelemetryGroup group = make_telemetry_group(encode_record(model_.telemetry()));
+  if (!socket_.is_open() || !powered_) return;
+  const RecordBytes record = encode_record(model_.telemetry());
+  if (spdlog::should_log(spdlog::level::trace)) log_record(record);
+  TelemetryGroup group = make_telemetry_group(record);
   faults_.apply(group);
   for (std::size_t i = 0; i < group.count; ++i) {
     if (!send(group.frames[i])) break;
@@ -152,6 +208,7 @@ void CanChassis::receive_frames() {
     const std::optional<asio_can::ReceivedFrame> received = asio_can::receive_frame(socket_, ec);
     if (!received) break;
     note_link_working();
+    if (!powered_) continue;
     if (!advanced) {
       advance_model();
       advanced = true;

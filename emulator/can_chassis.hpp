@@ -40,6 +40,8 @@ class CanChassis {
   void note_link_working();
   void lose_interface(const boost::system::error_code& ec);
   void on_reopen(const boost::system::error_code& ec);
+  void power_off();
+  void power_on();
 
   EmulatorOptions options_;
   ChassisEmulator model_;
@@ -48,7 +50,11 @@ class CanChassis {
   boost::asio::steady_timer control_timer_;
   boost::asio::steady_timer telemetry_timer_;
   boost::asio::steady_timer reopen_timer_;
+  boost::asio::steady_timer reboot_timer_;
+  std::uint32_t seed_;
+  Clock::time_point started_;
   Clock::time_point power_on_;
+  bool powered_ = true;  // false for a moment during --reboot-after
   Clock::time_point next_control_;
   Clock::time_point next_telemetry_;
   Clock::duration telemetry_period_;

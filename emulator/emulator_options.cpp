@@ -1,6 +1,8 @@
 #include "emulator_options.hpp"
 
+#include <array>
 #include <cmath>
+#include <optional>
 #include <iostream>
 #include <map>
 
@@ -50,6 +52,47 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
   app.add_option("--dialect", dialect, "CAN dialect: manual (0x121 with enable frame) or 0x181")
       ->check(CLI::IsMember({"manual", "0x181"}))
       ->capture_default_str();
+  std::string ackermann_z = "yaw_rate";
+  app.add_option("--ackermann-z", ackermann_z,
+                 "Ackermann only: Z is a yaw_rate (0.001 rad/s, V3.5 firmware) or a steering_angle (0.001 rad, "
+                 "C50X firmware)")
+      ->check(CLI::IsMember({"yaw_rate", "steering_angle"}))
+      ->capture_default_str();
+  // Geometry: the chassis type's Mini-model defaults unless given.
+  struct GeometryFlag {
+    const char* flag;
+    double ChassisGeometry::*field;
+    const char* help;
+    std::optional<double> value;
+  };
+  std::array<GeometryFlag, 6> geometry_flags{{
+      {"--wheel-diameter", &ChassisGeometry::wheel_diameter, "wheel diameter, m (default 0.065)", {}},
+      {"--track", &ChassisGeometry::track,
+       "distance between left and right wheels, m (default per type: diff 0.177, ackermann 0.162, mecanum and "
+       "4wd 0.186, tank 0.235)",
+       {}},
+      {"--wheelbase", &ChassisGeometry::wheelbase, "front to rear axle, m (default 0.144; mecanum and 4wd 0.170)", {}},
+      {"--omni-radius", &ChassisGeometry::omni_radius, "omni: wheel to chassis centre, m (default 0.1)", {}},
+      {"--min-turn-radius", &ChassisGeometry::min_turn_radius, "Ackermann: minimum turning radius, m (default 0.35)",
+       {}},
+      {"--max-steering-angle", &ChassisGeometry::max_steering_angle,
+       "Ackermann: largest front-wheel angle, rad (default 0.5)", {}},
+  }};
+  for (GeometryFlag& geometry : geometry_flags) {
+    const bool zero_allowed = geometry.field == &ChassisGeometry::min_turn_radius;
+    app.add_option_function<double>(
+           geometry.flag, [&geometry](double value) { geometry.value = value; }, geometry.help)
+        ->check(finite_in(0.0, 100.0, zero_allowed))
+        ->group("Geometry");
+  }
+  app.add_option("--encoder-lines", options.encoder_lines, "encoder lines per motor turn")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str()
+      ->group("Geometry");
+  app.add_option("--gear-ratio", options.gear_ratio, "motor turns per wheel turn")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str()
+      ->group("Geometry");
   app.add_option("--boot-delay", options.boot_delay_s, "seconds with flag_stop = 1 and motors off after start")
       ->check(finite_in(0.0, 86400.0))
       ->capture_default_str();
@@ -72,11 +115,20 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
   double silent_after = 0.0;
   CLI::Option* silent = app.add_option("--silent-after", silent_after, "stop sending telemetry after SECONDS")
                             ->check(finite_in(0.0, 1e9));
+  double reboot_after = 0.0;
+  CLI::Option* reboot = app.add_option("--reboot-after", reboot_after,
+                                       "after SECONDS, go silent for 0.5 s and boot again (once), forgetting "
+                                       "any enable and command")
+                            ->check(finite_in(0.0, 1e9));
   app.add_option("--log-level", options.log_level, "trace, debug, info, warn or error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))
       ->capture_default_str();
   std::uint32_t seed = 0;
   CLI::Option* seed_option = app.add_option("--seed", seed, "seed of sensor noise and fault injection");
+
+  app.set_config("--config", "", "read these options from a TOML/INI file (key = value, keys as the long flags)")
+      ->type_name("FILE");
+  app.allow_config_extras(false);  // a misspelt key is an error, not silently ignored
 
   try {
     app.parse(argc, argv);
@@ -92,6 +144,12 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
   }
   options.chassis = chassis_types.at(chassis);
   options.dialect = *parse_dialect(dialect);
+  options.ackermann_z = *parse_ackermann_z(ackermann_z);
+  options.geometry = default_geometry(options.chassis);
+  for (const GeometryFlag& geometry : geometry_flags) {
+    if (geometry.value) options.geometry.*geometry.field = *geometry.value;
+  }
+  if (*reboot) options.reboot_after_s = reboot_after;
   if (*silent) options.silent_after_s = silent_after;
   if (*seed_option) options.seed = seed;
   return options;

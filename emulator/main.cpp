@@ -38,6 +38,14 @@ int main(int argc, char** argv) {
     spdlog::info("wheeltec-emu {} on {}: {} chassis, {} dialect, telemetry {} Hz, battery {} V, seed {}", kVersion,
                  options.interface, to_string(options.chassis), to_string(options.dialect), options.telemetry_hz,
                  options.battery_v, seed);
+    const ChassisGeometry& g = options.geometry;
+    spdlog::info("geometry: wheel diameter {} m, track {} m, wheelbase {} m, omni radius {} m; encoder {} lines, "
+                 "gear {}:1",
+                 g.wheel_diameter, g.track, g.wheelbase, g.omni_radius, options.encoder_lines, options.gear_ratio);
+    if (options.chassis == ChassisType::ackermann) {
+      spdlog::info("Ackermann Z is a {} (minimum turning radius {} m, steering limit {:.3f} rad)",
+                   to_string(options.ackermann_z), g.min_turn_radius, ackermann_steering_limit(g));
+    }
 
     boost::asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&io](const boost::system::error_code& ec, int signal) {

@@ -45,12 +45,14 @@ ChassisEmulator::ChassisEmulator(const EmulatorSettings& settings)
       geometry_(settings.geometry.value_or(default_geometry(settings.type))),
       random_(settings.seed),
       wheel_targets_(inverse_kinematics(settings.type, geometry_, Velocity{})),
-      battery_v_(settings.battery_v) {
+      battery_v_(settings.battery_v),
+      gyro_z_bias_lsb_(0.0) {
   WheelParameters wheel = settings.wheel;
   wheel.wheel_diameter = geometry_.wheel_diameter;
   std::uniform_real_distribution<double> encoder_phase(0.0, 1.0);
   wheels_.reserve(wheel_targets_.count);
   for (std::size_t i = 0; i < wheel_targets_.count; ++i) wheels_.emplace_back(wheel, encoder_phase(random_));
+  gyro_z_bias_lsb_ = noise(settings.noise.gyro_z_bias_lsb);
 }
 
 AdvanceEvents ChassisEmulator::advance_to(Nanos now) {
@@ -71,8 +73,14 @@ AdvanceEvents ChassisEmulator::advance_to(Nanos now) {
   return events;
 }
 
+void ChassisEmulator::sample_gyro_bias() {
+  gyro_z_bias_sum_ += last_true_velocity_.wz * kGyroLsbPerRadps + gyro_z_bias_lsb_ + noise(settings_.noise.gyro_lsb);
+  ++gyro_z_bias_samples_;
+}
+
 void ChassisEmulator::run_period() {
   const bool motors_enabled = !booting();
+  if (!motors_enabled) sample_gyro_bias();
   double load = 0.0;
   for (std::size_t i = 0; i < wheels_.size(); ++i) {
     wheels_[i].run_period(wheel_targets_.v[i], motors_enabled);
@@ -94,6 +102,13 @@ void ChassisEmulator::execute(const ControlCommand& command) {
   command_ = command;
   target_ = command_velocity(command);
   if (!is_holonomic(settings_.type)) target_.vy = 0.0;
+  if (settings_.type == ChassisType::ackermann && settings_.ackermann_z == AckermannZ::steering_angle) {
+    const double limit = ackermann_steering_limit(geometry_);
+    const double angle = std::clamp(command.z / 1000.0, -limit, limit);
+    wheel_targets_ = ackermann_rear_wheels(target_.vx, angle, geometry_);
+    target_.wz = geometry_.wheelbase > 0.0 ? target_.vx * std::tan(angle) / geometry_.wheelbase : 0.0;
+    return;
+  }
   wheel_targets_ = inverse_kinematics(settings_.type, geometry_, target_);
 }
 
@@ -167,8 +182,12 @@ RawTelemetry ChassisEmulator::telemetry() {
   raw.accel_z = saturate_int16(kAccelLsbPerG + noise(sigma.accel_lsb));
   raw.gyro_x = saturate_int16(noise(sigma.gyro_lsb));
   raw.gyro_y = saturate_int16(noise(sigma.gyro_lsb));
-  // The firmware sends gyro z as 0 while flag_stop is set (it is calibrating then).
-  raw.gyro_z = booting() ? 0 : saturate_int16(last_true_velocity_.wz * kGyroLsbPerRadps + noise(sigma.gyro_lsb));
+  // The firmware sends gyro z as 0 while flag_stop is set (it is calibrating then),
+  // and afterwards subtracts the offset it measured.
+  const double bias_estimate = gyro_z_bias_samples_ > 0 ? gyro_z_bias_sum_ / gyro_z_bias_samples_ : 0.0;
+  raw.gyro_z = booting() ? 0
+                         : saturate_int16(last_true_velocity_.wz * kGyroLsbPerRadps + gyro_z_bias_lsb_ - bias_estimate +
+                                          noise(sigma.gyro_lsb));
   raw.battery_mv = saturate_int16(battery_v_ * 1000.0 + noise(sigma.battery_mv));
   return raw;
 }

@@ -45,12 +45,26 @@ ChassisGeometry default_geometry(ChassisType type) {
   return geometry;
 }
 
-double ackermann_steering_angle(double vx, double wz, const ChassisGeometry& geometry) {
-  if (vx == 0.0 || wz == 0.0 || !std::isfinite(vx) || !std::isfinite(wz)) return 0.0;
+double ackermann_steering_limit(const ChassisGeometry& geometry) {
   double limit = std::max(geometry.max_steering_angle, 0.0);
   if (geometry.min_turn_radius > 0.0) {
     limit = std::min(limit, std::atan(geometry.wheelbase / geometry.min_turn_radius));
   }
+  return limit;
+}
+
+WheelSpeeds ackermann_rear_wheels(double vx, double angle, const ChassisGeometry& geometry) {
+  WheelSpeeds wheels;
+  wheels.count = 2;
+  const double spread = divide_or_zero(geometry.track * std::tan(angle), 2.0 * geometry.wheelbase);
+  wheels.v[0] = vx * (1.0 - spread);
+  wheels.v[1] = vx * (1.0 + spread);
+  return wheels;
+}
+
+double ackermann_steering_angle(double vx, double wz, const ChassisGeometry& geometry) {
+  if (vx == 0.0 || wz == 0.0 || !std::isfinite(vx) || !std::isfinite(wz)) return 0.0;
+  const double limit = ackermann_steering_limit(geometry);
   const double angle = std::atan(geometry.wheelbase * wz / vx);
   return std::clamp(angle, -limit, limit);
 }
@@ -67,15 +81,10 @@ WheelSpeeds inverse_kinematics(ChassisType type, const ChassisGeometry& geometry
       wheels.v[0] = vx - wz * geometry.track / 2.0;  // left
       wheels.v[1] = vx + wz * geometry.track / 2.0;  // right
       break;
-    case ChassisType::ackermann: {
+    case ChassisType::ackermann:
       // Rear wheels; the front wheels steer by ackermann_steering_angle().
-      wheels.count = 2;
-      const double tan_angle = std::tan(ackermann_steering_angle(vx, wz, geometry));
-      const double spread = divide_or_zero(geometry.track * tan_angle, 2.0 * geometry.wheelbase);
-      wheels.v[0] = vx * (1.0 - spread);
-      wheels.v[1] = vx * (1.0 + spread);
+      wheels = ackermann_rear_wheels(vx, ackermann_steering_angle(vx, wz, geometry), geometry);
       break;
-    }
     case ChassisType::mecanum: {
       wheels.count = 4;
       const double k = half_track_plus_half_wheelbase(geometry);

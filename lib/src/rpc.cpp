@@ -9,6 +9,7 @@
 #include <string>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -51,9 +52,18 @@ Error invalid_params(const Request& request, std::string message) {
   return Error{kInvalidParams, std::move(message), request.id};
 }
 
-std::variant<Request, Error> parse_object(json& document, bool too_deep) {
+// What the parser saw that the document built from it no longer shows.
+struct ParseFindings {
+  bool too_deep = false;
+  std::optional<std::string> duplicate_key;  // the first key repeated within one object
+  bool duplicate_at_top = false;             // ... in the request object itself
+};
+
+std::variant<Request, Error> parse_object(json& document, const ParseFindings& findings) {
   Request request;
-  if (auto id = document.find("id"); id != document.end()) {
+  // With "id" given twice, which one the client meant is unknown: answer with a null id.
+  const bool id_ambiguous = findings.duplicate_at_top && findings.duplicate_key == "id";
+  if (auto id = document.find("id"); id != document.end() && !id_ambiguous) {
     const bool finite_number = id->is_number() && std::isfinite(id->get<double>());
     if (!id->is_string() && !finite_number && !id->is_null()) {
       return Error{kInvalidRequest, "\"id\" must be a string, a number or null", nullptr};
@@ -64,7 +74,9 @@ std::variant<Request, Error> parse_object(json& document, bool too_deep) {
   }
   auto fail = [&](std::string message) { return Error{kInvalidRequest, std::move(message), request.id}; };
 
-  if (too_deep) return fail(fmt::format("request nested deeper than {} levels", kMaxDepth));
+  if (findings.too_deep) return fail(fmt::format("request nested deeper than {} levels", kMaxDepth));
+  // nlohmann keeps the last of duplicate keys silently; a request that says two things is refused.
+  if (findings.duplicate_key) return fail(fmt::format("duplicate key \"{}\"", printable(*findings.duplicate_key)));
 
   const auto jsonrpc = document.find("jsonrpc");
   if (jsonrpc == document.end()) return fail("missing \"jsonrpc\"");
@@ -171,29 +183,53 @@ void restore_non_finite(json& value) {
   }
 }
 
-json parse_bounded(std::string_view text, bool& too_deep) {
-  return json::parse(text.begin(), text.end(), [&](int depth, json::parse_event_t event, json&) {
-    if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
-        depth >= kMaxDepth) {
-      too_deep = true;
-      return false;
+json parse_bounded(std::string_view text, ParseFindings& findings) {
+  findings = ParseFindings{};
+  // The keys seen so far in each open object. Once a container is dropped as too deep the
+  // parser still reports its keys against an outer object, but then too_deep is reported first.
+  std::vector<std::vector<std::string>> open_objects;
+  return json::parse(text.begin(), text.end(), [&](int depth, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        if (depth >= kMaxDepth) {
+          findings.too_deep = true;
+          return false;
+        }
+        if (event == json::parse_event_t::object_start) open_objects.emplace_back();
+        return true;
+      case json::parse_event_t::key: {
+        if (open_objects.empty() || !parsed.is_string()) return true;
+        auto& keys = open_objects.back();
+        const auto& name = parsed.get_ref<const std::string&>();
+        if (std::find(keys.begin(), keys.end(), name) == keys.end()) {
+          keys.push_back(name);
+        } else if (!findings.duplicate_key) {
+          findings.duplicate_key = name;
+          findings.duplicate_at_top = depth == 1;
+        }
+        return true;
+      }
+      case json::parse_event_t::object_end:
+        if (!open_objects.empty()) open_objects.pop_back();
+        return true;
+      default:
+        return true;
     }
-    return true;
   });
 }
 
 std::variant<Request, Error> parse_line(std::string_view line) {
-  bool too_deep = false;
+  ParseFindings findings;
   json document;
   try {
-    document = parse_bounded(line, too_deep);
+    document = parse_bounded(line, findings);
   } catch (const json::exception& error) {
     const Error parse_error{kParseError, parse_error_message(error), nullptr};
     const auto marked = mark_non_finite(line);
     if (!marked) return parse_error;
     try {
-      too_deep = false;
-      document = parse_bounded(*marked, too_deep);
+      document = parse_bounded(*marked, findings);
     } catch (const json::exception&) {
       return parse_error;
     }
@@ -204,7 +240,7 @@ std::variant<Request, Error> parse_line(std::string_view line) {
   if (!document.is_object()) {
     return Error{kInvalidRequest, fmt::format("request must be a JSON object, got {}", document.type_name()), nullptr};
   }
-  return parse_object(document, too_deep);
+  return parse_object(document, findings);
 }
 
 }  // namespace

@@ -268,3 +268,94 @@ TEST(ChassisEmulatorTest, SameSeedSameTelemetry) {
 
 }  // namespace
 }  // namespace wheeltec
+
+namespace wheeltec {
+namespace {
+
+TEST(ChassisEmulatorTest, AckermannSteeringAngleModeTurnsAtTheYawRateOfTheAngle) {
+  // The daemon's steering_angle mode sends atan(wheelbase * wz / vx); the measured yaw
+  // rate must then be the wz it was asked for.
+  EmulatorSettings s = settings(ChassisType::ackermann, Dialect::manual, Nanos{0});
+  s.ackermann_z = AckermannZ::steering_angle;
+  ChassisEmulator chassis(s);
+  chassis.handle_frame(encode_enable_frame(true));
+  const ChassisGeometry g = default_geometry(ChassisType::ackermann);
+  const auto angle = static_cast<std::int16_t>(std::lround(1000.0 * ackermann_steering_angle(0.2, 0.5, g)));
+  chassis.handle_frame(control(Dialect::manual, 200, 0, angle));
+  EXPECT_NEAR(chassis.target().wz, 0.5, 0.005);
+  chassis.advance_to(seconds(2));
+  const Velocity reported = mean_reported_velocity(chassis, 40);
+  EXPECT_NEAR(reported.vx, 0.2, 0.006);
+  EXPECT_NEAR(reported.wz, 0.5, 0.015);
+}
+
+TEST(ChassisEmulatorTest, AckermannSteeringAngleIsClampedToTheSteeringLimit) {
+  EmulatorSettings s = settings(ChassisType::ackermann, Dialect::id_0x181, Nanos{0});
+  s.ackermann_z = AckermannZ::steering_angle;
+  ChassisEmulator chassis(s);
+  chassis.handle_frame(control(Dialect::id_0x181, 200, 0, 1500));  // 1.5 rad asked, limit atan(0.144 / 0.35)
+  const double limit = std::atan(0.144 / 0.35);
+  EXPECT_NEAR(chassis.target().wz, 0.2 * std::tan(limit) / 0.144, 1e-9);
+  chassis.handle_frame(control(Dialect::id_0x181, 200, 0, -1500));
+  EXPECT_NEAR(chassis.target().wz, -0.2 * std::tan(limit) / 0.144, 1e-9);
+}
+
+TEST(ChassisEmulatorTest, AckermannYawRateModeTakesZAsAYawRate) {
+  ChassisEmulator chassis(settings(ChassisType::ackermann, Dialect::id_0x181, Nanos{0}));
+  chassis.handle_frame(control(Dialect::id_0x181, 200, 0, 500));
+  chassis.advance_to(seconds(2));
+  const Velocity reported = mean_reported_velocity(chassis, 40);
+  EXPECT_NEAR(reported.wz, 0.5, 0.015);
+}
+
+TEST(ChassisEmulatorTest, GyroBiasIsSampledDuringBootAndSubtractedAfterwards) {
+  EmulatorSettings s = settings(ChassisType::diff, Dialect::manual, seconds(2));
+  s.noise.gyro_z_bias_lsb = 40.0;  // large, so that an unsubtracted bias would show
+  double biased_sum = 0.0;
+  double corrected_sum = 0.0;
+  constexpr int kSeeds = 20;
+  for (std::uint32_t seed = 1; seed <= kSeeds; ++seed) {
+    s.seed = seed;
+    ChassisEmulator booted(s);
+    booted.advance_to(seconds(3));
+    double sum = 0.0;
+    for (int i = 0; i < 50; ++i) sum += booted.telemetry().gyro_z;
+    corrected_sum += std::abs(sum / 50);
+
+    EmulatorSettings no_boot = s;
+    no_boot.boot_delay = Nanos{0};  // no time to sample the offset
+    ChassisEmulator cold(no_boot);
+    cold.advance_to(seconds(1));
+    sum = 0.0;
+    for (int i = 0; i < 50; ++i) sum += cold.telemetry().gyro_z;
+    biased_sum += std::abs(sum / 50);
+  }
+  EXPECT_LT(corrected_sum / kSeeds, 1.0) << "mean |gyro z| at rest after boot, LSB";
+  EXPECT_GT(biased_sum / kSeeds, 15.0) << "the offset is there when it was not sampled";
+}
+
+}  // namespace
+}  // namespace wheeltec
+
+namespace wheeltec {
+namespace {
+
+TEST(ChassisEmulatorTest, GeometryOverridesTheDefaults) {
+  EmulatorSettings s = settings(ChassisType::diff, Dialect::id_0x181, Nanos{0});
+  ChassisEmulator standard(s);
+  ChassisGeometry wide = default_geometry(ChassisType::diff);
+  wide.track = 2 * wide.track;
+  s.geometry = wide;
+  ChassisEmulator widened(s);
+  for (ChassisEmulator* chassis : {&standard, &widened}) {
+    chassis->handle_frame(control(Dialect::id_0x181, 0, 0, 1000));  // turn on the spot at 1 rad/s
+    chassis->advance_to(seconds(2));
+  }
+  // The wheels run twice as fast on the wider chassis; both report the same yaw rate.
+  EXPECT_NEAR(widened.wheel(1).speed(), 2 * standard.wheel(1).speed(), 0.01);
+  EXPECT_NEAR(standard.wheel(1).speed(), 0.177 / 2, 0.005);
+  EXPECT_NEAR(mean_reported_velocity(widened, 40).wz, 1.0, 0.03);
+}
+
+}  // namespace
+}  // namespace wheeltec

@@ -159,3 +159,22 @@ TEST(KinematicsTest, ForwardIsLeastSquaresForInconsistentMecanumWheels) {
 
 }  // namespace
 }  // namespace wheeltec
+
+namespace wheeltec {
+namespace {
+
+TEST(KinematicsTest, AckermannRearWheelsOfAnAngleGiveItsYawRate) {
+  const ChassisGeometry g = default_geometry(ChassisType::ackermann);
+  const WheelSpeeds wheels = ackermann_rear_wheels(0.3, 0.2, g);
+  ASSERT_EQ(wheels.count, 2u);
+  // Manual: vL = vx * (1 - T * tan(angle) / (2 H)), vR = vx * (1 + T * tan(angle) / (2 H)).
+  EXPECT_NEAR(wheels.v[0], 0.3 * (1 - 0.162 * std::tan(0.2) / (2 * 0.144)), 1e-12);
+  EXPECT_NEAR(wheels.v[1], 0.3 * (1 + 0.162 * std::tan(0.2) / (2 * 0.144)), 1e-12);
+  const Velocity body = forward_kinematics(ChassisType::ackermann, g, wheels);
+  EXPECT_NEAR(body.vx, 0.3, 1e-12);
+  EXPECT_NEAR(body.wz, 0.3 * std::tan(0.2) / 0.144, 1e-12);
+  EXPECT_NEAR(ackermann_steering_limit(g), std::atan(0.144 / 0.35), 1e-12);
+}
+
+}  // namespace
+}  // namespace wheeltec

@@ -22,12 +22,17 @@ struct SensorNoise {
   double accel_lsb = 8.0;
   double gyro_lsb = 1.5;
   double battery_mv = 3.0;
+  // Gyro z offset of this power-on; sampled during boot and subtracted afterwards.
+  double gyro_z_bias_lsb = 6.0;
 };
 
 struct EmulatorSettings {
   ChassisType type = ChassisType::mecanum;
   std::optional<ChassisGeometry> geometry;  // empty: default_geometry(type)
   Dialect dialect = Dialect::manual;
+  // Ackermann: whether Z is a yaw rate (V3.5 and F407 firmware) or the front-wheel
+  // angle in 0.001 rad (C50X firmware).
+  AckermannZ ackermann_z = AckermannZ::yaw_rate;
   Nanos boot_delay = std::chrono::seconds(10);
   double battery_v = 12.0;
   // Drain with every motor at full PWM; proportionally less under lighter load.
@@ -80,6 +85,8 @@ class ChassisEmulator {
   // Manual dialect: enabled by the enable frame; 0x181: a command has been received.
   bool under_can_control() const { return under_can_control_; }
   const ControlCommand& command() const { return command_; }
+  // The commanded body velocity; for Ackermann in steering-angle mode, wz is the yaw
+  // rate that the commanded angle gives at the commanded speed.
   const Velocity& target() const { return target_; }
   Velocity measured_velocity() const;  // forward kinematics of the encoder speeds
   Velocity true_velocity() const;      // forward kinematics of the motors' true speeds
@@ -91,6 +98,7 @@ class ChassisEmulator {
  private:
   void run_period();
   void execute(const ControlCommand& command);
+  void sample_gyro_bias();
   FrameOutcome handle_manual_frame(const CanFrame& frame);
   FrameOutcome handle_0x181_frame(const CanFrame& frame);
   double noise(double standard_deviation);
@@ -108,6 +116,9 @@ class ChassisEmulator {
   Velocity last_true_velocity_;
   Vector3 body_acceleration_;  // m/s^2 in the robot frame, gravity excluded
   double battery_v_;
+  double gyro_z_bias_lsb_;
+  double gyro_z_bias_sum_ = 0.0;  // of the samples taken while booting
+  int gyro_z_bias_samples_ = 0;
 };
 
 }  // namespace wheeltec

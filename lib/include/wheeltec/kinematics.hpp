@@ -35,4 +35,12 @@ Velocity forward_kinematics(ChassisType type, const ChassisGeometry& geometry, c
 // limited by the minimum turning radius and max steering angle; 0 when vx is 0.
 double ackermann_steering_angle(double vx, double wz, const ChassisGeometry& geometry);
 
+// The largest front-wheel angle (rad): the max steering angle or the one of the minimum
+// turning radius, whichever is smaller.
+double ackermann_steering_limit(const ChassisGeometry& geometry);
+
+// Rear-wheel speeds of an Ackermann car at speed vx with front-wheel angle `angle`
+// (rad, not limited here); its yaw rate is then vx * tan(angle) / wheelbase.
+WheelSpeeds ackermann_rear_wheels(double vx, double angle, const ChassisGeometry& geometry);
+
 }  // namespace wheeltec

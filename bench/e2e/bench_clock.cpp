@@ -1,0 +1,53 @@
+#include "bench_clock.hpp"
+
+#include <time.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace bench {
+
+double now_us() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) / 1e3;
+}
+
+ProcessSample sample_process(pid_t pid) {
+  const std::string dir = "/proc/" + std::to_string(pid);
+  std::ifstream stat_file(dir + "/stat");
+  std::string stat;
+  if (!std::getline(stat_file, stat)) throw std::runtime_error("cannot read " + dir + "/stat");
+  // Fields after the command name (which may hold spaces): state is field 3, utime 14, stime 15.
+  std::istringstream fields(stat.substr(stat.rfind(')') + 2));
+  std::string field;
+  unsigned long long utime = 0, stime = 0;
+  for (int index = 3; fields >> field; ++index) {
+    if (index == 14) utime = std::stoull(field);
+    if (index == 15) {
+      stime = std::stoull(field);
+      break;
+    }
+  }
+  ProcessSample sample;
+  sample.cpu_s = static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
+
+  std::ifstream status_file(dir + "/status");
+  std::string line;
+  while (std::getline(status_file, line)) {
+    std::istringstream words(line);
+    std::string key;
+    std::uint64_t value = 0;
+    words >> key >> value;
+    if (key == "voluntary_ctxt_switches:") sample.voluntary_switches = value;
+    if (key == "nonvoluntary_ctxt_switches:") sample.involuntary_switches = value;
+    if (key == "VmRSS:") sample.rss_kib = value;
+    if (key == "VmHWM:") sample.hwm_kib = value;
+  }
+  return sample;
+}
+
+}  // namespace bench

@@ -1,0 +1,25 @@
+#pragma once
+
+#include <sys/types.h>
+
+#include <cstdint>
+
+namespace bench {
+
+// CLOCK_MONOTONIC in microseconds.
+double now_us();
+
+// What /proc says about a process: CPU time, context switches (each voluntary one is a
+// wakeup from a blocking wait) and resident memory.
+struct ProcessSample {
+  double cpu_s = 0.0;  // utime + stime
+  std::uint64_t voluntary_switches = 0;
+  std::uint64_t involuntary_switches = 0;
+  std::uint64_t rss_kib = 0;
+  std::uint64_t hwm_kib = 0;  // peak RSS
+};
+
+// Throws std::runtime_error when the process is gone.
+ProcessSample sample_process(pid_t pid);
+
+}  // namespace bench

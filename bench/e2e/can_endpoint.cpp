@@ -1,0 +1,70 @@
+#include "can_endpoint.hpp"
+
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+namespace bench {
+
+namespace {
+std::runtime_error system_error(const std::string& what) {
+  return std::runtime_error(what + ": " + std::strerror(errno));
+}
+}  // namespace
+
+CanEndpoint::CanEndpoint(const std::string& interface, std::initializer_list<std::uint32_t> receive_ids) {
+  fd_ = ::socket(PF_CAN, SOCK_RAW, CAN_RAW);
+  if (fd_ < 0) throw system_error("socket(PF_CAN)");
+  std::vector<can_filter> filters;
+  for (std::uint32_t id : receive_ids) filters.push_back(can_filter{id, CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG});
+  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, filters.empty() ? nullptr : filters.data(),
+                   static_cast<socklen_t>(filters.size() * sizeof(can_filter))) != 0) {
+    throw system_error("CAN_RAW_FILTER");
+  }
+  const unsigned index = ::if_nametoindex(interface.c_str());
+  if (index == 0) throw system_error("interface " + interface);
+  sockaddr_can address{};
+  address.can_family = AF_CAN;
+  address.can_ifindex = static_cast<int>(index);
+  if (::bind(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0) throw system_error("bind " + interface);
+}
+
+CanEndpoint::~CanEndpoint() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void CanEndpoint::send(const wheeltec::CanFrame& frame) {
+  can_frame raw{};
+  raw.can_id = frame.id;
+  raw.can_dlc = frame.dlc;
+  std::memcpy(raw.data, frame.data.data(), 8);
+  // A full transmit queue (ENOBUFS) under a flood: wait for room rather than lose the frame.
+  for (int attempt = 0; attempt < 1000; ++attempt) {
+    if (::write(fd_, &raw, sizeof(raw)) == static_cast<ssize_t>(sizeof(raw))) return;
+    if (errno != ENOBUFS && errno != EAGAIN && errno != EINTR) throw system_error("CAN write");
+    pollfd ready{fd_, POLLOUT, 0};
+    ::poll(&ready, 1, 1);
+  }
+  throw std::runtime_error("CAN write: the transmit queue stayed full for 1 s");
+}
+
+std::optional<wheeltec::CanFrame> CanEndpoint::receive(int timeout_ms) {
+  pollfd ready{fd_, POLLIN, 0};
+  if (::poll(&ready, 1, timeout_ms) <= 0) return std::nullopt;
+  can_frame raw{};
+  if (::read(fd_, &raw, sizeof(raw)) != static_cast<ssize_t>(sizeof(raw))) return std::nullopt;
+  wheeltec::CanFrame frame;
+  frame.id = raw.can_id & CAN_SFF_MASK;
+  frame.dlc = raw.can_dlc;
+  std::memcpy(frame.data.data(), raw.data, 8);
+  return frame;
+}
+
+}  // namespace bench

@@ -1,0 +1,32 @@
+#pragma once
+
+#include <linux/can.h>
+
+#include <cstdint>
+#include <initializer_list>
+#include <optional>
+#include <string>
+
+#include "wheeltec/can_frame.hpp"
+
+namespace bench {
+
+// A raw CAN socket of the benchmark: sends frames, or receives those that pass its
+// kernel filters (exact standard IDs; none given: receives nothing).
+class CanEndpoint {
+ public:
+  CanEndpoint(const std::string& interface, std::initializer_list<std::uint32_t> receive_ids);
+  ~CanEndpoint();
+  CanEndpoint(const CanEndpoint&) = delete;
+  CanEndpoint& operator=(const CanEndpoint&) = delete;
+
+  void send(const wheeltec::CanFrame& frame);
+  // The next frame within timeout_ms, else empty.
+  std::optional<wheeltec::CanFrame> receive(int timeout_ms);
+  int fd() const { return fd_; }
+
+ private:
+  int fd_ = -1;
+};
+
+}  // namespace bench

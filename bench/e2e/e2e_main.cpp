@@ -1,0 +1,478 @@
+// End-to-end benchmark of wheeltecd on a (v)can interface, each figure next to a floor
+// measured in the same run:
+//  - the bus floor: a frame written on one raw CAN socket to its reception on another;
+//  - the relay floor: wheeltec-bench-floor, a minimal program with the daemon's shape
+//    (raw CAN socket + Unix socket, one epoll loop, no JSON, no protocol checks).
+// Prints a markdown table and writes the figures as JSON. Meant to run through
+// scripts/vcan-run (see scripts/bench.sh).
+#include <sys/timerfd.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/control_frame.hpp"
+#include "wheeltec/telemetry_group.hpp"
+#include "wheeltec/telemetry_record.hpp"
+
+#include "bench_clock.hpp"
+#include "can_endpoint.hpp"
+#include "child_program.hpp"
+#include "latency_stats.hpp"
+#include "subscriber_set.hpp"
+
+namespace {
+
+using nlohmann::json;
+using namespace bench;
+namespace fs = std::filesystem;
+
+struct Settings {
+  std::string wheeltecd;
+  std::string floor;
+  std::string cangen;
+  std::string interface = "vcan0";
+  std::string json_path;
+  int commands = 2000;
+  int records_1 = 1000;
+  int records_64 = 300;
+  double idle_s = 30.0;
+  double flood_s = 5.0;
+  double throughput_step_s = 1.5;
+  bool idle_only = false;        // for profiling the daemon (e.g. under callgrind): idle only
+  bool throughput_only = false;  // likewise: the throughput steps only
+};
+
+Settings parse_arguments(int argc, char** argv) {
+  Settings s;
+  for (int i = 1; i < argc; ++i) {
+    const std::string key = argv[i];
+    if (key == "--idle-only" || key == "--throughput-only") {
+      (key == "--idle-only" ? s.idle_only : s.throughput_only) = true;
+      continue;
+    }
+    if (key == "--help") {
+      std::cout << "usage: wheeltec-bench-e2e --wheeltecd PATH --floor PATH [--cangen PATH] [--interface vcan0]\n"
+                   "       [--json OUT] [--commands N] [--idle-seconds S] [--flood-seconds S] [--idle-only]\n";
+      std::exit(0);
+    }
+    if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
+    const std::string value = argv[++i];
+    if (key == "--wheeltecd") s.wheeltecd = value;
+    else if (key == "--floor") s.floor = value;
+    else if (key == "--cangen") s.cangen = value;
+    else if (key == "--interface") s.interface = value;
+    else if (key == "--json") s.json_path = value;
+    else if (key == "--commands") s.commands = std::stoi(value);
+    else if (key == "--idle-seconds") s.idle_s = std::stod(value);
+    else if (key == "--flood-seconds") s.flood_s = std::stod(value);
+    else throw std::invalid_argument("unknown option " + key);
+  }
+  if (s.wheeltecd.empty() || s.floor.empty()) throw std::invalid_argument("--wheeltecd and --floor are required");
+  return s;
+}
+
+// The frames of one valid telemetry record; `n` varies the velocity so records differ.
+wheeltec::TelemetryGroup telemetry_group(int n) {
+  wheeltec::RawTelemetry raw;
+  raw.vx = static_cast<std::int16_t>(n % 500);
+  raw.accel_z = 16400;
+  raw.battery_mv = 22500;
+  return wheeltec::make_telemetry_group(wheeltec::encode_record(raw));
+}
+
+void send_group(CanEndpoint& chassis, const wheeltec::TelemetryGroup& group) {
+  for (std::size_t i = 0; i < group.count; ++i) chassis.send(group.frames[i]);
+}
+
+// ---- command latency: drive line written -> control frame read on a raw CAN socket ----
+
+LatencySummary command_latency(const fs::path& socket, CanEndpoint& observer, int commands) {
+  LineClient client(socket);
+  std::vector<double> samples;
+  samples.reserve(commands);
+  for (int i = 0; i < commands; ++i) {
+    const int mm_per_s = 100 + (i % 2) * 100;  // a changed target each time: one frame at once
+    const std::string line = fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{}}}}})",
+                                         i + 1, mm_per_s / 1000.0);
+    const double start = now_us();
+    client.send_line(line);
+    for (;;) {
+      auto frame = observer.receive(1000);
+      if (!frame) throw std::runtime_error("no control frame within 1 s after drive #" + std::to_string(i + 1));
+      const int x = static_cast<std::int16_t>((frame->data[0] << 8) | frame->data[1]);
+      if (x == mm_per_s) break;  // periodic frames still carrying the previous target are skipped
+    }
+    samples.push_back(now_us() - start);
+    const std::string reply = client.read_line(1000);
+    if (reply.find("\"result\"") == std::string::npos) throw std::runtime_error("drive failed: " + reply);
+  }
+  client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
+  client.read_line(1000);
+  return summarize(std::move(samples));
+}
+
+LatencySummary bus_floor(const std::string& interface, int count) {
+  CanEndpoint sender(interface, {});
+  CanEndpoint receiver(interface, {0x7E0});
+  std::vector<double> samples;
+  wheeltec::CanFrame frame;
+  frame.id = 0x7E0;
+  frame.dlc = 8;
+  for (int i = 0; i < count; ++i) {
+    frame.data[0] = static_cast<std::uint8_t>(i);
+    const double start = now_us();
+    sender.send(frame);
+    if (!receiver.receive(1000)) throw std::runtime_error("the bus floor lost a frame");
+    samples.push_back(now_us() - start);
+  }
+  return summarize(std::move(samples));
+}
+
+// ---- telemetry latency: 0x103 sent -> notification read, for every subscriber ----
+
+struct TelemetryLatency {
+  LatencySummary all;  // one sample per subscriber and record
+  std::size_t lost = 0;
+};
+
+TelemetryLatency telemetry_latency(const fs::path& socket, CanEndpoint& chassis, std::size_t subscribers, int records) {
+  SubscriberSet set(socket, subscribers);
+  std::vector<std::size_t> lines(subscribers, 0);
+  std::vector<double> samples;
+  samples.reserve(subscribers * records);
+  TelemetryLatency result;
+  for (int r = 0; r < records; ++r) {
+    const auto group = telemetry_group(r);
+    chassis.send(group.frames[0]);
+    chassis.send(group.frames[1]);
+    const double start = now_us();
+    chassis.send(group.frames[2]);
+    std::size_t waiting = subscribers;
+    std::vector<bool> got(subscribers, false);
+    const double deadline = start + 1e6;
+    while (waiting > 0 && now_us() < deadline) {
+      for (std::size_t index : set.poll(100, lines)) {
+        if (got[index]) continue;
+        got[index] = true;
+        --waiting;
+        samples.push_back(now_us() - start);
+      }
+    }
+    result.lost += waiting;
+  }
+  result.all = summarize(std::move(samples));
+  return result;
+}
+
+// ---- telemetry at a steady rate, with the daemon's CPU over the run ----
+
+struct RateRun {
+  double rate_hz = 0;
+  std::uint64_t sent = 0;
+  std::uint64_t expected_lines = 0;
+  std::uint64_t received_lines = 0;
+  double wall_s = 0;
+  ProcessSample before, after;
+  std::uint64_t lost() const { return expected_lines > received_lines ? expected_lines - received_lines : 0; }
+  double cpu_s() const { return after.cpu_s - before.cpu_s; }
+};
+
+RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEndpoint& chassis, pid_t daemon) {
+  const int timer = ::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
+  const long interval_ns = std::max(1'000'000L, static_cast<long>(1e9 / rate_hz));
+  itimerspec spec{};
+  spec.it_interval.tv_sec = interval_ns / 1'000'000'000L;
+  spec.it_interval.tv_nsec = interval_ns % 1'000'000'000L;
+  spec.it_value = spec.it_interval;
+  std::vector<std::size_t> lines(set.size(), 0);
+  RateRun run;
+  run.rate_hz = rate_hz;
+  run.before = sample_process(daemon);
+  const double start = now_us();
+  ::timerfd_settime(timer, 0, &spec, nullptr);
+  const auto total = static_cast<std::uint64_t>(std::llround(rate_hz * duration_s));
+  const double give_up = start + (duration_s * 2 + 5) * 1e6;  // an overloaded machine must not hang the run
+  while (run.sent < total && now_us() < give_up) {
+    if (set.poll_with(timer, 100, lines)) {
+      std::uint64_t expirations = 0;
+      if (::read(timer, &expirations, sizeof(expirations)) < 0) expirations = 0;
+      const auto due = std::min<std::uint64_t>(
+          total, static_cast<std::uint64_t>((now_us() - start) / 1e6 * rate_hz) + 1);
+      while (run.sent < due) send_group(chassis, telemetry_group(static_cast<int>(run.sent++)));
+    }
+  }
+  run.expected_lines = run.sent * set.size();
+  // Let the last notifications arrive: stop when complete or nothing came for 300 ms.
+  double last_progress = now_us();
+  auto received = [&] { return std::accumulate(lines.begin(), lines.end(), std::uint64_t{0}); };
+  while (received() < run.expected_lines && now_us() - last_progress < 300e3) {
+    const auto before = received();
+    set.poll(50, lines);
+    if (received() != before) last_progress = now_us();
+  }
+  run.wall_s = (now_us() - start) / 1e6;
+  run.after = sample_process(daemon);
+  run.received_lines = received();
+  ::close(timer);
+  set.forget_extra();
+  return run;
+}
+
+json stats_of(const fs::path& socket) {
+  LineClient client(socket);
+  client.send_line(R"({"jsonrpc":"2.0","id":1,"method":"stats"})");
+  return json::parse(client.read_line(2000)).at("result");
+}
+
+// Raises the telemetry rate to 64 subscribers of the daemon until some notification is lost; returns
+// the last run without loss (rate 0 if even the first lost some).
+RateRun throughput(const fs::path& socket, CanEndpoint& chassis, pid_t gateway, double step_s, json& steps,
+                   ProcessSample* rss_with_clients) {
+  RateRun best;
+  SubscriberSet set(socket, 64);
+  for (double rate : {500.0, 1000.0, 2000.0, 4000.0, 8000.0}) {
+    const json stats_before = stats_of(socket);
+    const RateRun run = run_at_rate(rate, step_s, set, chassis, gateway);
+    json step = {{"rate_hz", rate}, {"records", run.sent}, {"notifications_expected", run.expected_lines},
+                 {"notifications_received", run.received_lines}, {"gateway_cpu_s", run.cpu_s()},
+                 {"wall_s", run.wall_s},
+                 {"cpu_us_per_record", run.sent ? 1e6 * run.cpu_s() / static_cast<double>(run.sent) : 0.0}};
+    const json stats_after = stats_of(socket);
+    for (const char* key : {"frames_received", "records_accepted", "notifications_dropped", "clients_disconnected_slow"}) {
+      step[key] = stats_after[key].get<std::uint64_t>() - stats_before[key].get<std::uint64_t>();
+    }
+    std::cerr << "  " << step.dump() << "\n";
+    steps.push_back(step);
+    if (run.lost() > 0 || run.sent == 0) break;
+    best = run;
+  }
+  if (rss_with_clients) *rss_with_clients = sample_process(gateway);
+  return best;
+}
+
+std::uint64_t interface_tx_packets(const std::string& interface) {
+  std::ifstream in("/sys/class/net/" + interface + "/statistics/tx_packets");
+  std::uint64_t n = 0;
+  in >> n;
+  return n;
+}
+
+
+std::string config_for(const Settings& s, const fs::path& socket) {
+  const json config = {
+      {"can", {{"interface", s.interface}, {"dialect", "manual"}}},
+      {"control", {{"rate_hz", 20}, {"command_timeout_s", 10.0}}},
+      {"api", {{"socket", socket.string()}, {"max_clients", 128}}},
+      {"log", {{"level", "warn"}}},
+  };
+  return config.dump(2);
+}
+
+std::string us(double v) { return fmt::format("{:.0f}", v); }
+std::string verdict(bool met) { return met ? "met" : "**missed**"; }
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  const Settings s = parse_arguments(argc, argv);
+  const fs::path dir = fs::temp_directory_path() / fmt::format("wheeltec-bench-{}", ::getpid());
+  fs::create_directories(dir);
+  json out;
+  out["interface"] = s.interface;
+
+  if (s.idle_only || s.throughput_only) {
+    const fs::path socket = dir / "wheeltecd.sock";
+    const fs::path config = dir / "wheeltecd.json";
+    std::ofstream(config) << config_for(s, socket) << "\n";
+    ChildProgram daemon("wheeltecd", {s.wheeltecd, "--config", config.string()}, dir);
+    daemon.wait_for_socket(socket);
+    CanEndpoint chassis(s.interface, {});
+    if (s.throughput_only) {
+      json steps = json::array();
+      throughput(socket, chassis, daemon.pid(), s.throughput_step_s, steps, nullptr);
+      std::cout << steps.dump(2) << "\n";
+    } else {
+      SubscriberSet one(socket, 1);
+      const RateRun idle = run_at_rate(20.0, s.idle_s, one, chassis, daemon.pid());
+      std::cout << fmt::format("idle: {} records, {} lost, {:.3f} s CPU in {:.1f} s, {} voluntary switches\n", idle.sent,
+                               idle.lost(), idle.cpu_s(), idle.wall_s,
+                               idle.after.voluntary_switches - idle.before.voluntary_switches);
+    }
+    daemon.terminate();
+    fs::remove_all(dir);
+    return 0;
+  }
+
+  // ---- floors ----
+  std::cerr << "bench: bus floor\n";
+  const LatencySummary bus = bus_floor(s.interface, s.commands);
+  out["floor"]["bus_latency"] = bus.to_json();
+
+  std::cerr << "bench: relay floor\n";
+  LatencySummary relay_command;
+  TelemetryLatency relay_tel1, relay_tel64;
+  RateRun relay_idle;
+  {
+    const fs::path socket = dir / "floor.sock";
+    ChildProgram relay("floor", {s.floor, "--interface", s.interface, "--socket", socket.string()}, dir);
+    relay.wait_for_socket(socket);
+    CanEndpoint observer(s.interface, {wheeltec::kManualControlId});
+    CanEndpoint chassis(s.interface, {});
+    relay_command = command_latency(socket, observer, s.commands);
+    relay_tel1 = telemetry_latency(socket, chassis, 1, s.records_1);
+    relay_tel64 = telemetry_latency(socket, chassis, 64, s.records_64);
+    std::cerr << "bench: relay floor idle, 1 subscriber at 20 Hz for " << s.idle_s << " s\n";
+    SubscriberSet one(socket, 1);
+    relay_idle = run_at_rate(20.0, s.idle_s, one, chassis, relay.pid());
+  }
+  out["floor"]["relay_command_latency"] = relay_command.to_json();
+  out["floor"]["relay_idle"] = {{"seconds", relay_idle.wall_s}, {"cpu_percent", 100.0 * relay_idle.cpu_s() / relay_idle.wall_s},
+                                {"voluntary_switches_per_s",
+                                 static_cast<double>(relay_idle.after.voluntary_switches - relay_idle.before.voluntary_switches) /
+                                     relay_idle.wall_s}};
+  out["floor"]["relay_telemetry_latency_1"] = relay_tel1.all.to_json();
+  out["floor"]["relay_telemetry_latency_64"] = relay_tel64.all.to_json();
+
+  // ---- wheeltecd ----
+  const fs::path socket = dir / "wheeltecd.sock";
+  const fs::path config = dir / "wheeltecd.json";
+  std::ofstream(config) << config_for(s, socket) << "\n";
+  ChildProgram daemon("wheeltecd", {s.wheeltecd, "--config", config.string()}, dir);
+  daemon.wait_for_socket(socket);
+  CanEndpoint chassis(s.interface, {});
+  CanEndpoint observer(s.interface, {wheeltec::kManualControlId});
+
+  std::cerr << "bench: wheeltecd RSS with no client\n";
+  for (int r = 0; r < 40; ++r) send_group(chassis, telemetry_group(r));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const ProcessSample rss0 = sample_process(daemon.pid());
+
+  std::cerr << "bench: wheeltecd idle, 1 subscriber at 20 Hz for " << s.idle_s << " s\n";
+  RateRun idle;
+  {
+    SubscriberSet one(socket, 1);
+    idle = run_at_rate(20.0, s.idle_s, one, chassis, daemon.pid());
+  }
+  const double idle_cpu_pct = 100.0 * idle.cpu_s() / idle.wall_s;
+  const double idle_wakeups = static_cast<double>(idle.after.voluntary_switches - idle.before.voluntary_switches) / idle.wall_s;
+  const double idle_preempted =
+      static_cast<double>(idle.after.involuntary_switches - idle.before.involuntary_switches) / idle.wall_s;
+  out["wheeltecd"]["idle"] = {{"seconds", idle.wall_s}, {"records", idle.sent}, {"lost", idle.lost()},
+                              {"cpu_percent", idle_cpu_pct}, {"voluntary_switches_per_s", idle_wakeups},
+                              {"involuntary_switches_per_s", idle_preempted}};
+
+  std::cerr << "bench: wheeltecd command latency\n";
+  observer.receive(0);
+  const LatencySummary command = command_latency(socket, observer, s.commands);
+  out["wheeltecd"]["command_latency"] = command.to_json();
+
+  std::cerr << "bench: wheeltecd telemetry latency\n";
+  const TelemetryLatency tel1 = telemetry_latency(socket, chassis, 1, s.records_1);
+  const TelemetryLatency tel64 = telemetry_latency(socket, chassis, 64, s.records_64);
+  out["wheeltecd"]["telemetry_latency_1"] = tel1.all.to_json();
+  out["wheeltecd"]["telemetry_latency_1"]["lost"] = tel1.lost;
+  out["wheeltecd"]["telemetry_latency_64"] = tel64.all.to_json();
+  out["wheeltecd"]["telemetry_latency_64"]["lost"] = tel64.lost;
+
+  std::cerr << "bench: wheeltecd throughput to 64 subscribers\n";
+  ProcessSample rss64;
+  json steps = json::array();
+  const RateRun best = throughput(socket, chassis, daemon.pid(), s.throughput_step_s, steps, &rss64);
+  out["wheeltecd"]["throughput_steps"] = steps;
+  const double cpu_us_per_record = best.sent ? 1e6 * best.cpu_s() / static_cast<double>(best.sent) : 0.0;
+  out["wheeltecd"]["throughput"] = {{"max_no_loss_rate_hz", best.rate_hz}, {"cpu_us_per_record", cpu_us_per_record}};
+  out["wheeltecd"]["rss_kib"] = {{"clients_0", rss0.rss_kib}, {"clients_64", rss64.rss_kib}, {"peak", rss64.hwm_kib}};
+
+  json flood_json = nullptr;
+  RateRun flood;
+  double flood_fps = 0;
+  json flood_discarded = json::object();  // groups the daemon discarded during the flood, by reason
+  if (!s.cangen.empty()) {
+    std::cerr << "bench: wheeltecd under a foreign-traffic flood for " << s.flood_s << " s\n";
+    SubscriberSet one(socket, 1);
+    ChildProgram cangen("cangen", {s.cangen, s.interface, "-g", "0", "-i", "-I", "555", "-L", "8", "-D", "r"}, dir);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    const auto tx_before = interface_tx_packets(s.interface);
+    const double t0 = now_us();
+    const json stats_before = stats_of(socket);
+    flood = run_at_rate(20.0, s.flood_s, one, chassis, daemon.pid());
+    const json stats_after = stats_of(socket);
+    flood_discarded = json::object();
+    for (const auto& [reason, count] : stats_after["groups_discarded"].items()) {
+      const auto delta = count.get<std::uint64_t>() - stats_before["groups_discarded"].value(reason, std::uint64_t{0});
+      if (delta > 0) flood_discarded[reason] = delta;
+    }
+    flood_fps = static_cast<double>(interface_tx_packets(s.interface) - tx_before) / ((now_us() - t0) / 1e6);
+    cangen.terminate();
+    flood_json = {{"foreign_frames_per_s", flood_fps}, {"records", flood.sent}, {"lost", flood.lost()},
+                  {"cpu_percent", 100.0 * flood.cpu_s() / flood.wall_s}, {"groups_discarded", flood_discarded}};
+  }
+  out["wheeltecd"]["flood"] = flood_json;
+  daemon.terminate();
+
+  // ---- the table ----
+  const auto ratio = [](double a, double b) { return b > 0 ? fmt::format("{:.1f}x", a / b) : std::string("-"); };
+  std::string t;
+  t += "| figure | wheeltecd | floor | ratio | target | |\n|---|---|---|---|---|---|\n";
+  t += fmt::format("| command latency p50, drive -> frame (us) | {} | bus {} / relay {} | {} / {} | | |\n", us(command.p50_us),
+                   us(bus.p50_us), us(relay_command.p50_us), ratio(command.p50_us, bus.p50_us),
+                   ratio(command.p50_us, relay_command.p50_us));
+  t += fmt::format("| command latency p99 (us), n={} | {} | bus {} / relay {} | {} / {} | <= 2x bus floor | {} |\n",
+                   command.count, us(command.p99_us), us(bus.p99_us), us(relay_command.p99_us),
+                   ratio(command.p99_us, bus.p99_us), ratio(command.p99_us, relay_command.p99_us),
+                   verdict(command.p99_us <= 2 * bus.p99_us));
+  t += fmt::format("| telemetry latency p50, 1 subscriber (us) | {} | relay {} | {} | | |\n", us(tel1.all.p50_us),
+                   us(relay_tel1.all.p50_us), ratio(tel1.all.p50_us, relay_tel1.all.p50_us));
+  t += fmt::format("| telemetry latency p99, 1 subscriber (us) | {} | relay {} | {} | | |\n", us(tel1.all.p99_us),
+                   us(relay_tel1.all.p99_us), ratio(tel1.all.p99_us, relay_tel1.all.p99_us));
+  t += fmt::format("| telemetry latency p50, 64 subscribers (us) | {} | relay {} | {} | | |\n", us(tel64.all.p50_us),
+                   us(relay_tel64.all.p50_us), ratio(tel64.all.p50_us, relay_tel64.all.p50_us));
+  t += fmt::format("| telemetry latency p99, 64 subscribers (us) | {} | relay {} | {} | <= 3x floor | {} |\n",
+                   us(tel64.all.p99_us), us(relay_tel64.all.p99_us), ratio(tel64.all.p99_us, relay_tel64.all.p99_us),
+                   verdict(tel64.all.p99_us <= 3 * relay_tel64.all.p99_us));
+  t += fmt::format("| telemetry lost in the latency runs | {} | relay {} | | 0 | {} |\n", tel1.lost + tel64.lost,
+                   relay_tel1.lost + relay_tel64.lost, verdict(tel1.lost + tel64.lost == 0));
+  t += fmt::format("| max no-loss rate to 64 subscribers (records/s) | {:.0f} | | | >= 2000 | {} |\n", best.rate_hz,
+                   verdict(best.rate_hz >= 2000));
+  t += fmt::format("| daemon CPU per record at that rate, 64 subscribers (us) | {:.1f} | | | | |\n", cpu_us_per_record);
+  if (!flood_json.is_null()) {
+    t += fmt::format("| flood: foreign frames/s on the bus | {:.0f} | | | | |\n", flood_fps);
+    t += fmt::format("| flood: telemetry lost at 20 Hz | {} of {} | | | 0 | {} |\n", flood.lost(), flood.sent,
+                     verdict(flood.lost() == 0));
+    t += fmt::format("| flood: groups the daemon discarded, by reason | {} | | | | |\n",
+                     flood_discarded.empty() ? std::string("none") : flood_discarded.dump());
+    const double pct = 100.0 * flood.cpu_s() / flood.wall_s;
+    t += fmt::format("| flood: daemon CPU (% of a core) | {:.2f} | | | < 1 | {} |\n", pct, verdict(pct < 1.0));
+  }
+  const double relay_idle_pct = 100.0 * relay_idle.cpu_s() / relay_idle.wall_s;
+  const double relay_wakeups =
+      static_cast<double>(relay_idle.after.voluntary_switches - relay_idle.before.voluntary_switches) / relay_idle.wall_s;
+  t += fmt::format("| idle: CPU, 1 subscriber at 20 Hz, {:.0f} s (% of a core) | {:.3f} | relay {:.3f} | | < 0.2 | {} |\n",
+                   idle.wall_s, idle_cpu_pct, relay_idle_pct, verdict(idle_cpu_pct < 0.2));
+  t += fmt::format("| idle: wakeups/s (voluntary context switches) | {:.1f} | relay {:.1f} | | | |\n", idle_wakeups,
+                   relay_wakeups);
+  t += fmt::format("| RSS, 0 clients (MiB) | {:.2f} | | | | |\n", rss0.rss_kib / 1024.0);
+  t += fmt::format("| RSS, 64 clients (MiB) | {:.2f} | | | < 8 | {} |\n", rss64.rss_kib / 1024.0,
+                   verdict(rss64.rss_kib < 8 * 1024));
+  std::cout << t;
+  out["table_markdown"] = t;
+  if (!s.json_path.empty()) std::ofstream(s.json_path) << out.dump(2) << "\n";
+  fs::remove_all(dir);
+  return 0;
+} catch (const std::exception& e) {
+  std::cerr << "wheeltec-bench-e2e: " << e.what() << "\n";
+  return 1;
+}

@@ -1,0 +1,150 @@
+// The relay floor of the end-to-end benchmark: the least a gateway with wheeltecd's shape
+// can do. One epoll loop over a raw CAN socket (kernel-filtered to 0x101-0x103) and a
+// Unix stream socket. Every request line gets a fixed reply; a line containing "drive"
+// first sends a control frame on 0x121 carrying its "vx" in mm/s; a line containing
+// "subscribe" makes the client a subscriber; each 0x103 frame sends a fixed-shape
+// telemetry line (the size of the daemon's) to every subscriber. No JSON parsing, no
+// protocol checks, no backpressure: a floor, not a product.
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <sys/epoll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Client {
+  int fd = -1;
+  bool subscribed = false;
+  std::string input;
+};
+
+[[noreturn]] void fail(const char* what) {
+  std::fprintf(stderr, "wheeltec-bench-floor: %s: %s\n", what, std::strerror(errno));
+  std::exit(1);
+}
+
+void write_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::send(fd, data, size, MSG_NOSIGNAL);
+    if (n <= 0) return;
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string interface = "vcan0", socket_path;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (std::strcmp(argv[i], "--interface") == 0) interface = argv[i + 1];
+    if (std::strcmp(argv[i], "--socket") == 0) socket_path = argv[i + 1];
+  }
+  if (socket_path.empty()) {
+    std::fprintf(stderr, "usage: wheeltec-bench-floor --socket PATH [--interface vcan0]\n");
+    return 2;
+  }
+
+  const int can = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK, CAN_RAW);
+  if (can < 0) fail("CAN socket");
+  can_filter filters[3];
+  for (int i = 0; i < 3; ++i) filters[i] = can_filter{static_cast<canid_t>(0x101 + i), CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG};
+  ::setsockopt(can, SOL_CAN_RAW, CAN_RAW_FILTER, filters, sizeof(filters));
+  sockaddr_can can_address{};
+  can_address.can_family = AF_CAN;
+  can_address.can_ifindex = static_cast<int>(::if_nametoindex(interface.c_str()));
+  if (can_address.can_ifindex == 0 || ::bind(can, reinterpret_cast<sockaddr*>(&can_address), sizeof(can_address)) != 0) {
+    fail(interface.c_str());
+  }
+
+  const int listener = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::strncpy(address.sun_path, socket_path.c_str(), sizeof(address.sun_path) - 1);
+  ::unlink(socket_path.c_str());
+  if (::bind(listener, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0 || ::listen(listener, 128) != 0) {
+    fail("Unix socket");
+  }
+
+  const int epoll = ::epoll_create1(0);
+  epoll_event event{};
+  event.events = EPOLLIN;
+  event.data.fd = listener;
+  ::epoll_ctl(epoll, EPOLL_CTL_ADD, listener, &event);
+  event.data.fd = can;
+  ::epoll_ctl(epoll, EPOLL_CTL_ADD, can, &event);
+
+  std::vector<Client> clients;
+  unsigned long long seq = 0;
+  char line[600];
+  static const char kReply[] = "{\"jsonrpc\":\"2.0\",\"result\":{},\"id\":0}\n";
+
+  for (;;) {
+    epoll_event events[64];
+    const int n = ::epoll_wait(epoll, events, 64, -1);
+    for (int e = 0; e < n; ++e) {
+      const int fd = events[e].data.fd;
+      if (fd == listener) {
+        // Blocking: a subscriber that lags makes the relay wait rather than lose lines.
+        const int client = ::accept4(listener, nullptr, nullptr, 0);
+        if (client < 0) continue;
+        event.data.fd = client;
+        ::epoll_ctl(epoll, EPOLL_CTL_ADD, client, &event);
+        if (static_cast<std::size_t>(client) >= clients.size()) clients.resize(client + 1);
+        clients[client] = Client{client, false, {}};
+      } else if (fd == can) {
+        can_frame frame;
+        while (::read(can, &frame, sizeof(frame)) == static_cast<ssize_t>(sizeof(frame))) {
+          if ((frame.can_id & CAN_SFF_MASK) != 0x103) continue;
+          const int size = std::snprintf(
+              line, sizeof(line),
+              "{\"jsonrpc\":\"2.0\",\"method\":\"telemetry\",\"params\":{\"seq\":%llu,\"time\":1763800000.123456,"
+              "\"stopped\":false,\"velocity\":{\"vx\":0.257,\"vy\":0.001,\"wz\":0.000},\"accel\":{\"x\":-0.2165,"
+              "\"y\":-0.3361,\"z\":9.8756},\"gyro\":{\"x\":-0.00133,\"y\":0.00187,\"z\":0.00027},\"battery\":"
+              "{\"voltage\":22.584,\"low\":false},\"odom\":{\"x\":0.000000,\"y\":0.000000,\"yaw\":0.000000}}}\n",
+              ++seq);
+          for (const Client& c : clients) {
+            if (c.fd >= 0 && c.subscribed) write_all(c.fd, line, static_cast<std::size_t>(size));
+          }
+        }
+      } else {
+        Client& c = clients[fd];
+        char chunk[4096];
+        const ssize_t got = ::recv(fd, chunk, sizeof(chunk), 0);
+        if (got <= 0) {
+          ::close(fd);
+          c = Client{};
+          continue;
+        }
+        c.input.append(chunk, static_cast<std::size_t>(got));
+        for (auto end = c.input.find('\n'); end != std::string::npos; end = c.input.find('\n')) {
+          const std::string request = c.input.substr(0, end);
+          c.input.erase(0, end + 1);
+          if (request.find("\"drive\"") != std::string::npos) {
+            const auto vx = request.find("\"vx\":");
+            const double value = vx == std::string::npos ? 0.0 : std::strtod(request.c_str() + vx + 5, nullptr);
+            const int mm = static_cast<int>(value * 1000.0 + (value < 0 ? -0.5 : 0.5));
+            can_frame out{};
+            out.can_id = 0x121;
+            out.can_dlc = 8;
+            out.data[0] = static_cast<unsigned char>((mm >> 8) & 0xFF);
+            out.data[1] = static_cast<unsigned char>(mm & 0xFF);
+            if (::write(can, &out, sizeof(out)) < 0) std::perror("CAN write");
+          }
+          if (request.find("\"subscribe\"") != std::string::npos) c.subscribed = true;
+          write_all(fd, kReply, sizeof(kReply) - 1);
+        }
+      }
+    }
+  }
+}

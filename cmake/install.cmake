@@ -1,0 +1,73 @@
+# Install rules (FHS places under CMAKE_INSTALL_PREFIX, /etc for the configuration) and
+# the Debian package: `cmake --install BUILD` or `cpack -G DEB` in BUILD.
+# The three programs install themselves (install(TARGETS) in their directories).
+include(GNUInstallDirs)
+
+set(WHEELTEC_SYSTEMD_UNIT_DIR "lib/systemd/system" CACHE STRING "systemd unit directory, relative to the prefix")
+set(WHEELTEC_NETWORKD_DIR "lib/systemd/network" CACHE STRING "systemd-networkd directory, relative to the prefix")
+set(WHEELTEC_DOC_DIR "${CMAKE_INSTALL_DATADIR}/doc/wheeltec-gateway")
+
+install(FILES systemd/wheeltecd.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
+install(FILES systemd/80-wheeltec-can.network DESTINATION ${WHEELTEC_NETWORKD_DIR})
+# Absolute: the unit and the daemon's default look for /etc/wheeltecd/wheeltecd.json.
+set(WHEELTEC_CONFIG_DIR "/etc/wheeltecd" CACHE PATH "directory of wheeltecd.json")
+install(FILES config/wheeltecd.json DESTINATION ${WHEELTEC_CONFIG_DIR})
+
+# Man pages and changelog compressed as Debian wants them (gzip -n: reproducible).
+find_program(GZIP_PROGRAM gzip REQUIRED)
+set(WHEELTEC_MAN_PAGES man/wheeltecd.8 man/wheeltecctl.1 man/wheeltec-emu.1)
+set(WHEELTEC_COMPRESSED_FILES)
+foreach(page IN LISTS WHEELTEC_MAN_PAGES)
+  get_filename_component(name ${page} NAME)
+  string(REGEX REPLACE ".*\\.([0-9])$" "\\1" section ${name})
+  set(compressed ${PROJECT_BINARY_DIR}/man/${name}.gz)
+  add_custom_command(OUTPUT ${compressed}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/man
+    COMMAND ${GZIP_PROGRAM} -9nc ${PROJECT_SOURCE_DIR}/${page} > ${compressed}
+    DEPENDS ${PROJECT_SOURCE_DIR}/${page} VERBATIM)
+  list(APPEND WHEELTEC_COMPRESSED_FILES ${compressed})
+  install(FILES ${compressed} DESTINATION ${CMAKE_INSTALL_MANDIR}/man${section})
+endforeach()
+# changelog.gz is the package's (Debian format); CHANGELOG.md.gz the project's.
+set(WHEELTEC_CHANGELOGS)
+foreach(source IN ITEMS packaging/debian/changelog CHANGELOG.md)
+  get_filename_component(name ${source} NAME)
+  set(compressed ${PROJECT_BINARY_DIR}/doc/${name}.gz)
+  add_custom_command(OUTPUT ${compressed}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/doc
+    COMMAND ${GZIP_PROGRAM} -9nc ${PROJECT_SOURCE_DIR}/${source} > ${compressed}
+    DEPENDS ${PROJECT_SOURCE_DIR}/${source} VERBATIM)
+  list(APPEND WHEELTEC_COMPRESSED_FILES ${compressed})
+  list(APPEND WHEELTEC_CHANGELOGS ${compressed})
+endforeach()
+add_custom_target(wheeltec_compressed_docs ALL DEPENDS ${WHEELTEC_COMPRESSED_FILES})
+
+install(FILES ${WHEELTEC_CHANGELOGS} packaging/debian/copyright README.md DESTINATION ${WHEELTEC_DOC_DIR})
+install(DIRECTORY docs/ DESTINATION ${WHEELTEC_DOC_DIR} FILES_MATCHING PATTERN "*.md")
+
+# Debian package.
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGE_NAME wheeltec-gateway)
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_PACKAGE_CONTACT "wheeltec-gateway developers <dev@wheeltec-gateway.invalid>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "WHEELTEC robot chassis gateway (SocketCAN to JSON-RPC)")
+set(CPACK_PACKAGE_DESCRIPTION "wheeltecd drives a WHEELTEC robot chassis over SocketCAN and serves
+JSON-RPC 2.0 to local clients over a Unix socket, with a systemd service that
+runs it as the unprivileged user wheeltec. wheeltecctl reads status and
+telemetry and drives the robot from the command line; wheeltec-emu emulates
+the chassis controller on a virtual CAN interface.")
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_STRIP_FILES ON)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION misc)
+set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser")
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "can-utils, iproute2")
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
+  ${PROJECT_SOURCE_DIR}/packaging/debian/conffiles
+  ${PROJECT_SOURCE_DIR}/packaging/debian/postinst
+  ${PROJECT_SOURCE_DIR}/packaging/debian/prerm
+  ${PROJECT_SOURCE_DIR}/packaging/debian/postrm)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+include(CPack)

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Runs every benchmark of issue #6 and prints the figures:
+#   1. the Google Benchmark microbenchmarks (bench/), natively;
+#   2. the end-to-end benchmark (wheeltecd against the raw-socket floors) on vcan0
+#      through scripts/vcan-run (User-Mode Linux on hosts without SocketCAN).
+# Writes $BENCH_OUT (default: $BUILD_DIR/bench-results) /microbench.json, e2e.json and
+# table.md. Takes a few minutes; the 30 s idle measurement is the longest part.
+#
+#   scripts/bench.sh [--quick]      --quick: short runs, to check that everything works
+#
+# BUILD_DIR (default /tmp/build-bench) is configured and built if needed.
+set -euo pipefail
+
+REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUILD_DIR=${BUILD_DIR:-/tmp/build-bench}
+BENCH_OUT=${BENCH_OUT:-$BUILD_DIR/bench-results}
+QUICK=0
+case "${1:-}" in
+  --quick) QUICK=1 ;;
+  "") ;;
+  -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+  *) echo "bench.sh: unknown argument $1" >&2; exit 2 ;;
+esac
+
+# shellcheck source=lib/setup.sh
+source "$REPO_ROOT/scripts/lib/setup.sh"
+install_packages libbenchmark-dev can-utils
+
+if [[ ! -f $BUILD_DIR/build.ninja ]]; then
+  cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWHEELTEC_BUILD_BENCHMARKS=ON >/dev/null
+fi
+cmake --build "$BUILD_DIR" --target wheeltec-microbench wheeltec-bench-e2e wheeltec-bench-floor wheeltecd -j2
+mkdir -p "$BENCH_OUT"
+
+min_time=0.5
+e2e_args=()
+if ((QUICK)); then
+  min_time=0.05
+  e2e_args=(--commands 200 --idle-seconds 2 --flood-seconds 2)
+fi
+
+echo "== microbenchmarks (native, $(nproc) CPUs) =="
+"$BUILD_DIR/bench/wheeltec-microbench" --benchmark_min_time="$min_time" \
+  --benchmark_out="$BENCH_OUT/microbench.json" --benchmark_out_format=json
+
+micro_table=$(python3 - "$BENCH_OUT/microbench.json" <<'PY'
+import json, sys
+targets = {"BM_ReassembleAndDecodeRecord": 20e6, "BM_TelemetryNotificationJson": 1e6}
+print("| microbenchmark | ns/op (CPU) | items/s | target | |")
+print("|---|---|---|---|---|")
+for b in json.load(open(sys.argv[1]))["benchmarks"]:
+    rate = b.get("items_per_second", 0)
+    target = targets.get(b["name"])
+    verdict = "" if target is None else ("met" if rate >= target else "**missed**")
+    target_text = "" if target is None else f">= {target/1e6:g} M/s"
+    print(f"| {b['name']} | {b['cpu_time']:.1f} | {rate/1e6:.2f} M/s | {target_text} | {verdict} |")
+PY
+)
+
+echo "== end-to-end (vcan0 through scripts/vcan-run) =="
+cangen=$(command -v cangen || true)
+"$REPO_ROOT/scripts/vcan-run" -- "$BUILD_DIR/bench/wheeltec-bench-e2e" \
+  --wheeltecd "$BUILD_DIR/daemon/wheeltecd" --floor "$BUILD_DIR/bench/wheeltec-bench-floor" \
+  ${cangen:+--cangen "$cangen"} --json "$BENCH_OUT/e2e.json" "${e2e_args[@]}" >"$BENCH_OUT/e2e-table.md"
+
+{
+  echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), load average $(cut -d' ' -f1-3 /proc/loadavg)."
+  echo
+  echo "$micro_table"
+  echo
+  cat "$BENCH_OUT/e2e-table.md"
+} >"$BENCH_OUT/table.md"
+echo
+cat "$BENCH_OUT/table.md"
+echo
+echo "bench.sh: figures in $BENCH_OUT (table.md, microbench.json, e2e.json)"

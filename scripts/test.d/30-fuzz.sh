@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Test stage: builds the libFuzzer targets (fuzz/) with clang, AddressSanitizer and
+# UndefinedBehaviorSanitizer (LeakSanitizer included), and runs each for a bounded time
+# from its seed corpus in fuzz/corpus/<target>/. Fails on any crash, leak, timeout or
+# sanitizer report; the reproducer is left in the build directory's fuzz-artifacts/.
+#   FUZZ_SECONDS   time per target (default 60)
+#   FUZZ_BUILD_DIR build directory (default $BUILD_DIR-fuzz)
+set -euo pipefail
+
+REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
+BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
+# shellcheck source=scripts/lib/setup.sh
+source "$REPO_ROOT/scripts/lib/setup.sh"
+install_packages clang-14 libclang-rt-14-dev
+
+seconds=${FUZZ_SECONDS:-60}
+build=${FUZZ_BUILD_DIR:-$BUILD_DIR-fuzz}
+jobs=${BUILD_JOBS:-2}
+targets=(rpc_line telemetry_frames)
+
+cmake -S "$REPO_ROOT" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_COMPILER=clang++-14 \
+  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
+  -DWHEELTEC_BUILD_FUZZERS=ON -DWHEELTEC_BUILD_TESTS=OFF -DWHEELTEC_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+
+artifacts=$build/fuzz-artifacts
+mkdir -p "$artifacts"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+failed=0
+for target in "${targets[@]}"; do
+  # New inputs go to a scratch corpus; the repository's seeds stay as they are.
+  corpus=$build/fuzz-corpus/$target
+  rm -rf -- "$corpus"
+  mkdir -p "$corpus"
+  echo "fuzz: $target for ${seconds} s"
+  if "$build/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+      -max_len=8192 -print_final_stats=1 -artifact_prefix="$artifacts/$target-" \
+      "$corpus" "$REPO_ROOT/fuzz/corpus/$target" >"$build/fuzz-$target.log" 2>&1; then
+    grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb' "$build/fuzz-$target.log" | sed "s/^/fuzz: $target /"
+  else
+    echo "fuzz: $target FAILED; last lines of $build/fuzz-$target.log:" >&2
+    tail -n 40 "$build/fuzz-$target.log" >&2
+    failed=1
+  fi
+done
+exit "$failed"

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# arm64: cross-compiles the three programs and the unit tests for aarch64 with Debian's
+# cross compiler and :arm64 multiarch libraries (cmake/toolchain-aarch64.cmake), then
+# runs the unit tests under qemu-user. Integration tests need vcan and stay native.
+set -euo pipefail
+: "${REPO_ROOT:?}" "${BUILD_DIR:?}"
+source "$REPO_ROOT/scripts/lib/setup.sh"
+
+sudo=()
+[[ $(id -u) -eq 0 ]] || sudo=(sudo)
+if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+  echo "arm64: adding the arm64 architecture to dpkg"
+  "${sudo[@]}" dpkg --add-architecture arm64
+  "${sudo[@]}" apt-get update
+fi
+# Header-only and architecture-independent packages (nlohmann-json3-dev, libcli11-dev)
+# come from the host installation; Boost's headers are multi-arch "same" and needed as
+# :arm64 for its arm64 CMake config files.
+install_packages crossbuild-essential-arm64 qemu-user file \
+  libboost-dev:arm64 libspdlog-dev:arm64 libfmt-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
+  libsystemd-dev:arm64
+
+arm_build=$BUILD_DIR/arm64  # removed with the build directory
+cmake -S "$REPO_ROOT" -B "$arm_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_TOOLCHAIN_FILE="$REPO_ROOT/cmake/toolchain-aarch64.cmake" \
+  -DWHEELTEC_BUILD_BENCHMARKS=OFF -DWHEELTEC_BUILD_FUZZERS=OFF
+cmake --build "$arm_build" -j "${BUILD_JOBS:-2}" --target wheeltecd wheeltecctl wheeltec-emu unit_tests
+
+for program in daemon/wheeltecd cli/wheeltecctl emulator/wheeltec-emu tests/unit/unit_tests; do
+  description=$(file -b "$arm_build/$program")
+  echo "$program: $description"
+  [[ $description == *"ARM aarch64"* ]] || { echo "arm64: $program is not an aarch64 executable"; exit 1; }
+done
+
+export QEMU_LD_PREFIX=/usr/aarch64-linux-gnu
+qemu-aarch64 "$arm_build/daemon/wheeltecd" --version
+(cd "$arm_build/tests/unit" && qemu-aarch64 ./unit_tests --gtest_color=no --gtest_brief=1)

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Test stage: the benchmarks still build and run. Each microbenchmark runs for a few
+# milliseconds and must not report an error; nothing is timed or compared here (the
+# figures come from scripts/bench.sh, see docs/performance.md).
+set -euo pipefail
+
+REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
+BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
+# shellcheck source=../lib/setup.sh
+source "$REPO_ROOT/scripts/lib/setup.sh"
+install_packages libbenchmark-dev
+
+# The main build may have been configured before Google Benchmark was installed.
+cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -DWHEELTEC_BUILD_BENCHMARKS=ON >/dev/null
+cmake --build "$BUILD_DIR" --target wheeltec-microbench wheeltec-bench-e2e wheeltec-bench-floor -j"${BUILD_JOBS:-2}"
+
+out=$(mktemp)
+trap 'rm -f "$out"' EXIT
+"$BUILD_DIR/bench/wheeltec-microbench" --benchmark_min_time=0.01 --benchmark_format=json >"$out"
+python3 - "$out" <<'PY'
+import json, sys
+runs = json.load(open(sys.argv[1]))["benchmarks"]
+expected = {"BM_ControlFrameEncode", "BM_ReassembleAndDecodeRecord", "BM_TelemetryNotificationJson",
+            "BM_DriveRequestToFrameAndResponse", "BM_StatusRequestThroughRpcHandler"}
+names = {r["name"] for r in runs}
+errors = [f"{r['name']}: {r.get('error_message')}" for r in runs if r.get("error_occurred")]
+missing = expected - names
+if errors or missing:
+    sys.exit("bench smoke: " + "; ".join(errors + [f"{m} did not run" for m in sorted(missing)]))
+print(f"bench smoke: {len(runs)} microbenchmarks ran")
+PY
+"$BUILD_DIR/bench/wheeltec-bench-e2e" --help >/dev/null
