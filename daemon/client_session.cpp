@@ -1,5 +1,6 @@
 #include "client_session.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include <boost/asio/post.hpp>
@@ -26,6 +27,9 @@ ClientSession::ClientSession(Socket socket, ClientState state, RpcHandler& handl
       on_gone_(std::move(on_gone)),
       deadline_timer_(socket_.get_executor()) {
   write_buffers_.reserve(kMaxBuffersPerWrite);
+  boost::system::error_code error;
+  socket_.non_blocking(true, error);
+  direct_writes_ = !error;
 }
 
 void ClientSession::start() { pump(); }
@@ -176,7 +180,9 @@ bool ClientSession::enqueue(SharedText text, bool telemetry) {
   if (closed_) return false;
   const std::size_t size = text->size();
   if (telemetry && above_soft_limit_) {
-    for (std::size_t i = output_.size(); i-- > in_flight_;) {
+    // Not an entry being written, nor one already written in part.
+    const std::size_t first_replaceable = std::max<std::size_t>(in_flight_, front_written_ > 0 ? 1 : 0);
+    for (std::size_t i = output_.size(); i-- > first_replaceable;) {
       if (!output_[i].telemetry) continue;
       backlog_bytes_ = backlog_bytes_ - output_[i].text->size() + size;
       output_[i].text = std::move(text);
@@ -195,39 +201,87 @@ bool ClientSession::enqueue(SharedText text, bool telemetry) {
   output_.push_back(Outgoing{std::move(text), telemetry});
   backlog_bytes_ += size;
   backlog_changed();
-  start_write();
+  start_write(telemetry ? WriteMode::wait_for_completion : WriteMode::at_once);
   return true;
 }
 
-void ClientSession::start_write() {
+// WriteMode::at_once (responses): what the socket takes is written here, without a
+// completion handler, so a request costs one send and no extra turn of the event loop (a
+// turn with a completion pending costs an epoll_wait of its own). Only a remainder the
+// socket did not take waits for it with an async_write.
+// WriteMode::wait_for_completion (telemetry): the write's completion runs after the handler
+// that published the record, so the records that the same CAN drain completes meanwhile
+// queue up and go out together in the next write (one write per drain, not per record,
+// when the daemon is behind).
+void ClientSession::start_write(WriteMode mode) {
   if (closed_ || in_flight_ > 0 || output_.empty()) return;
-  write_buffers_.clear();
-  for (std::size_t i = 0; i < output_.size() && i < kMaxBuffersPerWrite; ++i) {
-    write_buffers_.push_back(boost::asio::buffer(*output_[i].text));
+  if (mode == WriteMode::at_once && direct_writes_) {
+    gather_write_buffers();
+    boost::system::error_code error;
+    const std::size_t written = socket_.write_some(write_buffers_, error);
+    if (error && error != boost::asio::error::would_block && error != boost::asio::error::try_again) {
+      write_failed(error);
+      return;
+    }
+    consume_written(written);
+    backlog_changed();
+    if (output_.empty()) {
+      if (closing_) {
+        linger();
+      } else if (read_paused_ && !above_soft_limit_) {
+        read_paused_ = false;
+        post_pump();  // not pump(): this may run while a request is being handled
+      }
+      return;
+    }
   }
+  gather_write_buffers();
   in_flight_ = write_buffers_.size();
   boost::asio::async_write(socket_, write_buffers_,
-                           [self = shared_from_this()](const boost::system::error_code& error, std::size_t) {
-                             self->on_write(error);
+                           [self = shared_from_this()](const boost::system::error_code& error, std::size_t bytes) {
+                             self->on_write(error, bytes);
                            });
 }
 
-void ClientSession::on_write(const boost::system::error_code& error) {
+void ClientSession::gather_write_buffers() {
+  write_buffers_.clear();
+  for (std::size_t i = 0; i < output_.size() && i < kMaxBuffersPerWrite; ++i) {
+    write_buffers_.push_back(boost::asio::buffer(*output_[i].text) + (i == 0 ? front_written_ : 0));
+  }
+}
+
+void ClientSession::consume_written(std::size_t bytes) {
+  while (bytes > 0 && !output_.empty()) {
+    const std::size_t size = output_.front().text->size();
+    const std::size_t rest = size - front_written_;
+    if (bytes < rest) {
+      front_written_ += bytes;
+      return;
+    }
+    bytes -= rest;
+    backlog_bytes_ -= size;
+    output_.pop_front();
+    front_written_ = 0;
+  }
+}
+
+void ClientSession::write_failed(const boost::system::error_code& error) {
+  spdlog::debug("client {}: write failed: {}", state_.id, error.message());
+  report_gone();
+  shut();
+}
+
+void ClientSession::on_write(const boost::system::error_code& error, std::size_t bytes) {
   if (closed_) return;
   if (error) {
-    spdlog::debug("client {}: write failed: {}", state_.id, error.message());
-    report_gone();
-    shut();
+    write_failed(error);
     return;
   }
-  for (std::size_t i = 0; i < in_flight_; ++i) {
-    backlog_bytes_ -= output_.front().text->size();
-    output_.pop_front();
-  }
   in_flight_ = 0;
+  consume_written(bytes);
   backlog_changed();
   if (!output_.empty()) {
-    start_write();
+    start_write(WriteMode::wait_for_completion);
   } else if (closing_) {
     linger();
     return;
@@ -320,6 +374,7 @@ void ClientSession::shut() {
   socket_.close(ignored);
   deadline_timer_.cancel();
   output_.clear();
+  front_written_ = 0;
   in_flight_ = 0;
   backlog_bytes_ = 0;
   input_.clear();

@@ -84,6 +84,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   };
 
   enum class LinesResult { drained, yielded, blocked };
+  enum class WriteMode { at_once, wait_for_completion };
 
   void pump();
   void post_pump();
@@ -96,8 +97,12 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   void end_of_input();
 
   bool enqueue(SharedText text, bool telemetry);
-  void start_write();
-  void on_write(const boost::system::error_code& error);
+  void start_write(WriteMode mode);
+  void gather_write_buffers();
+  // Removes what a write took from the front of output_ (a message may be taken in part).
+  void consume_written(std::size_t bytes);
+  void write_failed(const boost::system::error_code& error);
+  void on_write(const boost::system::error_code& error, std::size_t bytes);
   void backlog_changed();
   void on_slow_timer(const boost::system::error_code& error);
 
@@ -127,7 +132,9 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   bool gone_reported_ = false;
 
   std::deque<Outgoing> output_;
-  std::size_t in_flight_ = 0;     // entries of output_ being written
+  std::size_t front_written_ = 0;  // bytes of output_.front() already written
+  std::size_t in_flight_ = 0;     // entries of output_ in the async_write under way
+  bool direct_writes_ = false;    // the socket is non-blocking: WriteMode::at_once is possible
   std::size_t backlog_bytes_ = 0;
   std::vector<boost::asio::const_buffer> write_buffers_;
   boost::asio::steady_timer deadline_timer_;  // slow-client deadline; while lingering, the close deadline

@@ -4,12 +4,15 @@
 #include <net/if.h>
 #include <poll.h>
 #include <sys/socket.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
+
+#include "bench_clock.hpp"
 
 namespace bench {
 
@@ -34,6 +37,8 @@ CanEndpoint::CanEndpoint(const std::string& interface, std::initializer_list<std
   address.can_family = AF_CAN;
   address.can_ifindex = static_cast<int>(index);
   if (::bind(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0) throw system_error("bind " + interface);
+  const int on = 1;
+  if (::setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on)) != 0) throw system_error("SO_TIMESTAMPNS");
 }
 
 CanEndpoint::~CanEndpoint() {
@@ -65,6 +70,36 @@ std::optional<wheeltec::CanFrame> CanEndpoint::receive(int timeout_ms) {
   frame.dlc = raw.can_dlc;
   std::memcpy(frame.data.data(), raw.data, 8);
   return frame;
+}
+
+std::optional<CanEndpoint::Stamped> CanEndpoint::receive_stamped(int timeout_ms) {
+  pollfd ready{fd_, POLLIN, 0};
+  if (::poll(&ready, 1, timeout_ms) <= 0) return std::nullopt;
+  can_frame raw{};
+  iovec data{&raw, sizeof(raw)};
+  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec))];
+  msghdr message{};
+  message.msg_iov = &data;
+  message.msg_iovlen = 1;
+  message.msg_control = control;
+  message.msg_controllen = sizeof(control);
+  if (::recvmsg(fd_, &message, 0) != static_cast<ssize_t>(sizeof(raw))) return std::nullopt;
+  timespec kernel{};
+  for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_TIMESTAMPNS) std::memcpy(&kernel, CMSG_DATA(c), sizeof(kernel));
+  }
+  // The stamp is CLOCK_REALTIME; now_us() is CLOCK_MONOTONIC.
+  timespec real{};
+  ::clock_gettime(CLOCK_REALTIME, &real);
+  const double monotonic_now = now_us();
+  const double real_now = static_cast<double>(real.tv_sec) * 1e6 + static_cast<double>(real.tv_nsec) / 1e3;
+  const double kernel_real = static_cast<double>(kernel.tv_sec) * 1e6 + static_cast<double>(kernel.tv_nsec) / 1e3;
+  Stamped stamped;
+  stamped.frame.id = raw.can_id & CAN_SFF_MASK;
+  stamped.frame.dlc = raw.can_dlc;
+  std::memcpy(stamped.frame.data.data(), raw.data, 8);
+  stamped.kernel_us = monotonic_now - (real_now - kernel_real);
+  return stamped;
 }
 
 }  // namespace bench

@@ -23,6 +23,13 @@ class CanEndpoint {
   void send(const wheeltec::CanFrame& frame);
   // The next frame within timeout_ms, else empty.
   std::optional<wheeltec::CanFrame> receive(int timeout_ms);
+  // Likewise, with the kernel's receive timestamp converted to now_us()'s clock: on vcan that is
+  // when the sender's write() put the frame on the bus, before this process was woken.
+  struct Stamped {
+    wheeltec::CanFrame frame;
+    double kernel_us = 0.0;
+  };
+  std::optional<Stamped> receive_stamped(int timeout_ms);
   int fd() const { return fd_; }
 
  private:

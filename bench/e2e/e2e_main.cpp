@@ -53,19 +53,21 @@ struct Settings {
   double throughput_step_s = 1.5;
   bool idle_only = false;        // for profiling the daemon (e.g. under callgrind): idle only
   bool throughput_only = false;  // likewise: the throughput steps only
+  bool commands_only = false;    // likewise: the command latency only (e.g. under strace)
 };
 
 Settings parse_arguments(int argc, char** argv) {
   Settings s;
   for (int i = 1; i < argc; ++i) {
     const std::string key = argv[i];
-    if (key == "--idle-only" || key == "--throughput-only") {
-      (key == "--idle-only" ? s.idle_only : s.throughput_only) = true;
+    if (key == "--idle-only" || key == "--throughput-only" || key == "--commands-only") {
+      (key == "--idle-only" ? s.idle_only : key == "--throughput-only" ? s.throughput_only : s.commands_only) = true;
       continue;
     }
     if (key == "--help") {
       std::cout << "usage: wheeltec-bench-e2e --wheeltecd PATH --floor PATH [--cangen PATH] [--interface vcan0]\n"
-                   "       [--json OUT] [--commands N] [--idle-seconds S] [--flood-seconds S] [--idle-only]\n";
+                   "       [--json OUT] [--commands N] [--idle-seconds S] [--flood-seconds S]\n"
+                   "       [--idle-only | --throughput-only | --commands-only]\n";
       std::exit(0);
     }
     if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
@@ -99,29 +101,78 @@ void send_group(CanEndpoint& chassis, const wheeltec::TelemetryGroup& group) {
 
 // ---- command latency: drive line written -> control frame read on a raw CAN socket ----
 
-LatencySummary command_latency(const fs::path& socket, CanEndpoint& observer, int commands) {
+// Each command's time split at the kernel's timestamp of the frame (when the sending program's
+// write() put it on vcan): `to_frame` is the daemon's part (woken by the request, read, handled,
+// frame written), `after_frame` the benchmark's (woken by the frame, or waiting for the vCPU
+// while the daemon finishes the request: the response write and whatever else it does before
+// it sleeps again).
+struct CommandLatency {
+  std::vector<double> total, to_frame, after_frame;
+  void append(const CommandLatency& other) {
+    total.insert(total.end(), other.total.begin(), other.total.end());
+    to_frame.insert(to_frame.end(), other.to_frame.begin(), other.to_frame.end());
+    after_frame.insert(after_frame.end(), other.after_frame.begin(), other.after_frame.end());
+  }
+  json to_json() const {
+    json j = summarize(total).to_json();
+    j["to_frame"] = summarize(to_frame).to_json();
+    j["after_frame"] = summarize(after_frame).to_json();
+    return j;
+  }
+};
+
+// `base_mm_per_s` keeps the targets of two programs driven in turns apart.
+CommandLatency command_latency(const fs::path& socket, CanEndpoint& observer, int commands, int base_mm_per_s = 100) {
   LineClient client(socket);
-  std::vector<double> samples;
-  samples.reserve(commands);
+  CommandLatency result;
+  result.total.reserve(commands);
+  result.to_frame.reserve(commands);
+  result.after_frame.reserve(commands);
   for (int i = 0; i < commands; ++i) {
-    const int mm_per_s = 100 + (i % 2) * 100;  // a changed target each time: one frame at once
+    const int mm_per_s = base_mm_per_s + (i % 2) * 100;  // a changed target each time: one frame at once
     const std::string line = fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{}}}}})",
                                          i + 1, mm_per_s / 1000.0);
     const double start = now_us();
     client.send_line(line);
+    double frame_us = 0;
     for (;;) {
-      auto frame = observer.receive(1000);
-      if (!frame) throw std::runtime_error("no control frame within 1 s after drive #" + std::to_string(i + 1));
-      const int x = static_cast<std::int16_t>((frame->data[0] << 8) | frame->data[1]);
-      if (x == mm_per_s) break;  // periodic frames still carrying the previous target are skipped
+      auto stamped = observer.receive_stamped(1000);
+      if (!stamped) throw std::runtime_error("no control frame within 1 s after drive #" + std::to_string(i + 1));
+      const auto& data = stamped->frame.data;
+      const int x = static_cast<std::int16_t>((data[0] << 8) | data[1]);
+      if (x == mm_per_s) {  // periodic frames still carrying the previous target are skipped
+        frame_us = stamped->kernel_us;
+        break;
+      }
     }
-    samples.push_back(now_us() - start);
+    const double end = now_us();
+    result.total.push_back(end - start);
+    result.to_frame.push_back(frame_us - start);
+    result.after_frame.push_back(end - frame_us);
     const std::string reply = client.read_line(1000);
     if (reply.find("\"result\"") == std::string::npos) throw std::runtime_error("drive failed: " + reply);
   }
   client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
   client.read_line(1000);
-  return summarize(std::move(samples));
+  return result;
+}
+
+// The daemon and a relay floor running side by side, driven in alternating blocks, so that
+// both see the same load on the host and the (virtual) CPU.
+struct InterleavedCommands {
+  CommandLatency daemon, relay;
+};
+
+InterleavedCommands interleaved_command_latency(const fs::path& daemon_socket, const fs::path& relay_socket,
+                                                CanEndpoint& observer, int commands) {
+  constexpr int kBlock = 100;
+  InterleavedCommands result;
+  for (int done = 0; done < commands; done += kBlock) {
+    const int n = std::min(kBlock, commands - done);
+    result.daemon.append(command_latency(daemon_socket, observer, n, 100));
+    result.relay.append(command_latency(relay_socket, observer, n, 300));
+  }
+  return result;
 }
 
 LatencySummary bus_floor(const std::string& interface, int count) {
@@ -293,14 +344,23 @@ int main(int argc, char** argv) try {
   json out;
   out["interface"] = s.interface;
 
-  if (s.idle_only || s.throughput_only) {
+  if (s.idle_only || s.throughput_only || s.commands_only) {
     const fs::path socket = dir / "wheeltecd.sock";
     const fs::path config = dir / "wheeltecd.json";
     std::ofstream(config) << config_for(s, socket) << "\n";
     ChildProgram daemon("wheeltecd", {s.wheeltecd, "--config", config.string()}, dir);
     daemon.wait_for_socket(socket);
     CanEndpoint chassis(s.interface, {});
-    if (s.throughput_only) {
+    if (s.commands_only) {
+      const fs::path relay_socket = dir / "floor.sock";
+      ChildProgram relay("floor", {s.floor, "--interface", s.interface, "--socket", relay_socket.string()}, dir);
+      relay.wait_for_socket(relay_socket);
+      CanEndpoint observer(s.interface, {wheeltec::kManualControlId});
+      const InterleavedCommands commands = interleaved_command_latency(socket, relay_socket, observer, s.commands);
+      std::cout << "wheeltecd: " << commands.daemon.to_json().dump() << "\nrelay:     " << commands.relay.to_json().dump()
+                << "\n";
+      relay.terminate();
+    } else if (s.throughput_only) {
       json steps = json::array();
       throughput(socket, chassis, daemon.pid(), s.throughput_step_s, steps, nullptr);
       std::cout << steps.dump(2) << "\n";
@@ -322,23 +382,19 @@ int main(int argc, char** argv) try {
   out["floor"]["bus_latency"] = bus.to_json();
 
   std::cerr << "bench: relay floor\n";
-  LatencySummary relay_command;
   TelemetryLatency relay_tel1, relay_tel64;
   RateRun relay_idle;
   {
     const fs::path socket = dir / "floor.sock";
     ChildProgram relay("floor", {s.floor, "--interface", s.interface, "--socket", socket.string()}, dir);
     relay.wait_for_socket(socket);
-    CanEndpoint observer(s.interface, {wheeltec::kManualControlId});
     CanEndpoint chassis(s.interface, {});
-    relay_command = command_latency(socket, observer, s.commands);
     relay_tel1 = telemetry_latency(socket, chassis, 1, s.records_1);
     relay_tel64 = telemetry_latency(socket, chassis, 64, s.records_64);
     std::cerr << "bench: relay floor idle, 1 subscriber at 20 Hz for " << s.idle_s << " s\n";
     SubscriberSet one(socket, 1);
     relay_idle = run_at_rate(20.0, s.idle_s, one, chassis, relay.pid());
   }
-  out["floor"]["relay_command_latency"] = relay_command.to_json();
   out["floor"]["relay_idle"] = {{"seconds", relay_idle.wall_s}, {"cpu_percent", 100.0 * relay_idle.cpu_s() / relay_idle.wall_s},
                                 {"voluntary_switches_per_s",
                                  static_cast<double>(relay_idle.after.voluntary_switches - relay_idle.before.voluntary_switches) /
@@ -374,10 +430,24 @@ int main(int argc, char** argv) try {
                               {"cpu_percent", idle_cpu_pct}, {"voluntary_switches_per_s", idle_wakeups},
                               {"involuntary_switches_per_s", idle_preempted}};
 
-  std::cerr << "bench: wheeltecd command latency\n";
-  observer.receive(0);
-  const LatencySummary command = command_latency(socket, observer, s.commands);
-  out["wheeltecd"]["command_latency"] = command.to_json();
+  std::cerr << "bench: wheeltecd command latency, in turns with the relay floor\n";
+  InterleavedCommands commands;
+  {
+    const fs::path relay_socket = dir / "floor.sock";
+    ChildProgram relay("floor", {s.floor, "--interface", s.interface, "--socket", relay_socket.string()}, dir);
+    relay.wait_for_socket(relay_socket);
+    while (observer.receive(0)) {
+    }
+    commands = interleaved_command_latency(socket, relay_socket, observer, s.commands);
+  }
+  const LatencySummary command = summarize(commands.daemon.total);
+  const LatencySummary relay_command = summarize(commands.relay.total);
+  const LatencySummary command_to_frame = summarize(commands.daemon.to_frame);
+  const LatencySummary relay_to_frame = summarize(commands.relay.to_frame);
+  const LatencySummary command_after_frame = summarize(commands.daemon.after_frame);
+  const LatencySummary relay_after_frame = summarize(commands.relay.after_frame);
+  out["wheeltecd"]["command_latency"] = commands.daemon.to_json();
+  out["floor"]["relay_command_latency"] = commands.relay.to_json();
 
   std::cerr << "bench: wheeltecd telemetry latency\n";
   const TelemetryLatency tel1 = telemetry_latency(socket, chassis, 1, s.records_1);
@@ -434,6 +504,12 @@ int main(int argc, char** argv) try {
                    command.count, us(command.p99_us), us(bus.p99_us), us(relay_command.p99_us),
                    ratio(command.p99_us, bus.p99_us), ratio(command.p99_us, relay_command.p99_us),
                    verdict(command.p99_us <= 2 * bus.p99_us));
+  t += fmt::format("| command: request -> frame on the bus (daemon's part) p50 / p99 (us) | {} / {} | relay {} / {} | | | |\n",
+                   us(command_to_frame.p50_us), us(command_to_frame.p99_us), us(relay_to_frame.p50_us),
+                   us(relay_to_frame.p99_us));
+  t += fmt::format("| command: frame on the bus -> benchmark woken p50 / p99 (us) | {} / {} | relay {} / {} | | | |\n",
+                   us(command_after_frame.p50_us), us(command_after_frame.p99_us), us(relay_after_frame.p50_us),
+                   us(relay_after_frame.p99_us));
   t += fmt::format("| telemetry latency p50, 1 subscriber (us) | {} | relay {} | {} | | |\n", us(tel1.all.p50_us),
                    us(relay_tel1.all.p50_us), ratio(tel1.all.p50_us, relay_tel1.all.p50_us));
   t += fmt::format("| telemetry latency p99, 1 subscriber (us) | {} | relay {} | {} | | |\n", us(tel1.all.p99_us),

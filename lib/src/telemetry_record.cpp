@@ -1,5 +1,7 @@
 #include "wheeltec/telemetry_record.hpp"
 
+#include <cstring>
+
 namespace wheeltec {
 
 namespace {
@@ -20,8 +22,20 @@ void put_be16(RecordBytes& bytes, std::size_t at, std::int16_t value) {
 }  // namespace
 
 std::uint8_t block_check(const std::uint8_t* bytes, std::size_t n) {
-  std::uint8_t sum = 0;
-  for (std::size_t i = 0; i < n; ++i) sum ^= bytes[i];
+  // Eight bytes at a time, then the eight byte lanes folded into one: XOR does not care
+  // about order, so this is the same sum as byte by byte, in about a quarter of the steps.
+  std::uint64_t lanes = 0;
+  std::size_t i = 0;
+  for (; i + sizeof(lanes) <= n; i += sizeof(lanes)) {
+    std::uint64_t word;
+    std::memcpy(&word, bytes + i, sizeof(word));
+    lanes ^= word;
+  }
+  lanes ^= lanes >> 32;
+  lanes ^= lanes >> 16;
+  lanes ^= lanes >> 8;
+  auto sum = static_cast<std::uint8_t>(lanes);
+  for (; i < n; ++i) sum ^= bytes[i];
   return sum;
 }
 
