@@ -73,16 +73,23 @@ std::string_view to_string(BusState state) {
   return "unknown";
 }
 
-CanLink::CanLink(boost::asio::io_context& io, std::string interface, std::chrono::milliseconds retry_interval)
+CanLink::CanLink(boost::asio::io_context& io, std::string interface, std::chrono::milliseconds retry_interval,
+                 std::chrono::milliseconds max_retry_interval)
     : io_(io),
       interface_(std::move(interface)),
       retry_interval_(retry_interval),
+      max_retry_interval_(std::max(max_retry_interval, retry_interval)),
+      retry_delay_(retry_interval),
       socket_(io),
-      retry_timer_(io) {}
+      retry_timer_(io),
+      link_events_(io) {}
 
 void CanLink::start() {
   if (running_) return;
   running_ = true;
+  link_events_.on_event([this](const LinkEvent& event) { on_link_event(event); });
+  link_events_.on_unknown([this] { recheck_interface(); });
+  link_events_.start();
   if (!try_open()) {
     schedule_retry();
   }
@@ -91,6 +98,7 @@ void CanLink::start() {
 void CanLink::stop() {
   running_ = false;
   retry_timer_.cancel();
+  link_events_.stop();
   boost::system::error_code ignored;
   socket_.close(ignored);
   ++generation_;
@@ -104,7 +112,10 @@ bool CanLink::send(const CanFrame& frame) {
   }
   if (asio_can::send_frame(socket_, frame, ec)) {
     ++counters_.frames_sent;
-    send_failing_ = false;
+    if (failed_sends_in_row_ > 0) {
+      spdlog::info("CAN {}: sending again after {} frame(s) dropped", interface_, failed_sends_in_row_);
+      failed_sends_in_row_ = 0;
+    }
     return true;
   }
   ++counters_.send_errors;
@@ -112,13 +123,14 @@ bool CanLink::send(const CanFrame& frame) {
     go_down(ec);
     return false;
   }
-  // A full transmit queue (nobody acknowledging on a real bus) repeats at the control
-  // rate; say so once until a send succeeds again.
-  if (send_failing_) {
+  // A full transmit queue (nobody acknowledging on a real bus, ENOBUFS; or the socket's
+  // send buffer full, EAGAIN) repeats at the control rate; say so once until a send succeeds
+  // again. The frame is dropped: the next periodic frame carries the newest target.
+  if (failed_sends_in_row_++ > 0) {
     spdlog::debug("CAN {}: send failed: {}", interface_, ec.message());
   } else {
-    spdlog::warn("CAN {}: send failed: {} (frame dropped, not queued)", interface_, ec.message());
-    send_failing_ = true;
+    spdlog::warn("CAN {}: send failed: {} (frame dropped, not queued; the next frame carries the newest target)",
+                 interface_, ec.message());
   }
   return false;
 }
@@ -160,8 +172,11 @@ bool CanLink::try_open() {
 
   ++counters_.reopens;
   ++generation_;
+  ifindex_ = ifindex;
+  retry_delay_ = retry_interval_;
+  retry_timer_.cancel();
   down_cause_ = DownCause::none;
-  send_failing_ = false;
+  failed_sends_in_row_ = 0;
   set_state(BusState::up);
   // Frames may already be queued, and the reactor is edge-triggered: read before waiting.
   boost::asio::post(io_, [this, generation = generation_] { drain(generation); });
@@ -172,12 +187,10 @@ void CanLink::note_down_cause(DownCause cause, const char* what, const boost::sy
   const bool repeated = cause == down_cause_;
   down_cause_ = cause;
   const auto level = repeated ? spdlog::level::debug : spdlog::level::warn;
-  const double retry_s = std::chrono::duration<double>(retry_interval_).count();
-  if (ec) {
-    spdlog::log(level, "CAN {}: {}: {}; retrying every {:g} s", interface_, what, ec.message(), retry_s);
-  } else {
-    spdlog::log(level, "CAN {}: {}; retrying every {:g} s", interface_, what, retry_s);
-  }
+  const auto retry_s = [](std::chrono::milliseconds interval) { return std::chrono::duration<double>(interval).count(); };
+  const std::string reason = ec ? fmt::format("{}: {}", what, ec.message()) : std::string(what);
+  spdlog::log(level, "CAN {}: {}; reopening when rtnetlink reports it up, else retrying every {:g} to {:g} s",
+              interface_, reason, retry_s(retry_interval_), retry_s(max_retry_interval_));
 }
 
 void CanLink::go_down(const boost::system::error_code& ec) {
@@ -198,11 +211,54 @@ void CanLink::go_down(const boost::system::error_code& ec) {
 
 void CanLink::schedule_retry() {
   if (!running_) return;
-  retry_timer_.expires_after(retry_interval_);
+  retry_timer_.expires_after(retry_delay_);
+  retry_delay_ = std::min(retry_delay_ * 2, max_retry_interval_);
   retry_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec == boost::asio::error::operation_aborted || !running_ || socket_.is_open()) return;
     if (!try_open()) schedule_retry();
   });
+}
+
+// An early retry on news that the interface may be back; the backoff timer keeps running
+// if it is not.
+void CanLink::retry_now() {
+  if (!running_ || socket_.is_open()) return;
+  try_open();
+}
+
+void CanLink::on_link_event(const LinkEvent& event) {
+  if (!running_ || event.name != interface_) return;
+  if (!socket_.is_open()) {
+    if (event.change == LinkChange::updated && event.up()) retry_now();
+    return;
+  }
+  if (event.change == LinkChange::removed) {
+    go_down(boost::asio::error::no_such_device);
+  } else if (!event.up()) {
+    go_down(boost::asio::error::network_down);
+  } else if (event.index != ifindex_) {
+    // Deleted and re-created under the same name, the deletion not seen: the socket is
+    // bound to the old interface.
+    go_down(boost::asio::error::no_such_device);
+    retry_now();
+  }
+}
+
+// Link notifications were lost: find out directly whether the interface is still the one
+// the socket is bound to and up, or has come back.
+void CanLink::recheck_interface() {
+  if (!running_) return;
+  if (!socket_.is_open()) {
+    retry_now();
+    return;
+  }
+  boost::system::error_code ec;
+  if (asio_can::interface_index(interface_, ec) != ifindex_) {
+    go_down(boost::asio::error::no_such_device);
+    retry_now();
+  } else if (!interface_is_up(socket_.native_handle(), interface_, ec)) {
+    go_down(ec ? ec : boost::system::error_code(boost::asio::error::network_down));
+  }
 }
 
 void CanLink::wait_readable() {

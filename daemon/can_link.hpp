@@ -12,6 +12,9 @@
 #include "wheeltec/asio_can/frame_io.hpp"
 #include "wheeltec/asio_can/raw_protocol.hpp"
 #include "wheeltec/can_frame.hpp"
+#include "wheeltec/link_event.hpp"
+
+#include "link_event_monitor.hpp"
 
 namespace wheeltec::daemon {
 
@@ -30,14 +33,17 @@ struct CanLinkCounters {
 // frames or exactly that 29-bit ID, so that malformed telemetry can be counted; error frames),
 // kernel receive timestamps, non-blocking sends.
 // The interface may be absent or down at start, go down, disappear and come back: the
-// link reports the state and reopens by itself (retrying every retry_interval).
+// link reports the state and reopens by itself, at once when rtnetlink reports the interface
+// up, else on a retry timer that backs off from retry_interval to max_retry_interval (events
+// can be missed, and netlink may be unavailable).
 class CanLink {
  public:
   using FrameHandler = std::function<void(const asio_can::ReceivedFrame&)>;
   using StateHandler = std::function<void(BusState)>;
 
   CanLink(boost::asio::io_context& io, std::string interface,
-          std::chrono::milliseconds retry_interval = std::chrono::milliseconds(500));
+          std::chrono::milliseconds retry_interval = std::chrono::milliseconds(500),
+          std::chrono::milliseconds max_retry_interval = std::chrono::milliseconds(5000));
 
   // Handlers are called from the io_context; set them before start().
   void on_frame(FrameHandler handler) { frame_handler_ = std::move(handler); }
@@ -61,6 +67,9 @@ class CanLink {
   bool try_open();
   void go_down(const boost::system::error_code& ec);
   void schedule_retry();
+  void retry_now();
+  void on_link_event(const LinkEvent& event);
+  void recheck_interface();
   void wait_readable();
   void drain(std::uint64_t generation);
   void handle_error_frame(const CanFrame& frame);
@@ -70,8 +79,12 @@ class CanLink {
   boost::asio::io_context& io_;
   std::string interface_;
   std::chrono::milliseconds retry_interval_;
+  std::chrono::milliseconds max_retry_interval_;
+  std::chrono::milliseconds retry_delay_;  // the next retry's delay; doubles up to max_retry_interval_
   asio_can::raw_protocol::socket socket_;
   boost::asio::steady_timer retry_timer_;
+  LinkEventMonitor link_events_;
+  int ifindex_ = 0;  // of the interface the socket is bound to; a re-created one gets a new index
   BusState state_ = BusState::down;
   CanLinkCounters counters_;
   FrameHandler frame_handler_;
@@ -80,7 +93,7 @@ class CanLink {
   std::uint64_t generation_ = 0;
   bool running_ = false;
   DownCause down_cause_ = DownCause::none;
-  bool send_failing_ = false;  // the last send failed; the next failure is logged at debug only
+  std::uint64_t failed_sends_in_row_ = 0;  // only the first failure of a run is logged as a warning
 };
 
 }  // namespace wheeltec::daemon

@@ -113,7 +113,7 @@ void ControlLoop::stop() {
   const auto previous_owner = arbiter_.owner();
   const ControlCommand previous = command_;
   arbiter_.stop();
-  deadman_timer_.cancel();
+  cancel_deadman();
   update_command();
   send_control();  // always, even when the target already was zero
   notify_if_changed(enabled_, previous_owner, previous);
@@ -139,7 +139,7 @@ void ControlLoop::disable() {
   const auto previous_owner = arbiter_.owner();
   const ControlCommand previous = command_;
   arbiter_.stop();
-  deadman_timer_.cancel();
+  cancel_deadman();
   update_command();
   send_control();
   send_enable(false);
@@ -155,7 +155,7 @@ void ControlLoop::client_gone(ClientId client) {
   const ControlCommand previous = command_;
   if (!arbiter_.release(client)) return;
   spdlog::info("client {} gone while holding control: zero velocity", client);
-  deadman_timer_.cancel();
+  cancel_deadman();
   update_command();
   send_control();
   notify_if_changed(enabled_, previous_owner, previous);
@@ -178,7 +178,7 @@ void ControlLoop::link_came_up() {
 void ControlLoop::shutdown() {
   period_timer_.cancel();
   enable_timer_.cancel();
-  deadman_timer_.cancel();
+  cancel_deadman();
   arbiter_.stop();
   update_command();
   send_control();
@@ -212,7 +212,9 @@ void ControlLoop::arm_period_timer() {
   period_timer_.expires_at(next_period_);
   period_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec == boost::asio::error::operation_aborted || !enabled_ || shut_down_) return;
-    send_control();
+    // When the loop runs late, this wait and the deadman's can complete in the same turn,
+    // this one first: a lapsed target must not go out in a periodic frame.
+    if (!release_if_lapsed()) send_control();
     // Absolute deadlines, so the rate does not drift; after a stall, resynchronise.
     const auto current = Clock::now();
     next_period_ += period_;
@@ -244,28 +246,43 @@ void ControlLoop::arm_enable_timer() {
   });
 }
 
+void ControlLoop::cancel_deadman() {
+  deadman_timer_.cancel();
+  deadman_waiting_ = false;
+}
+
 void ControlLoop::arm_deadman() {
   const auto deadline = arbiter_.deadline();
   if (!deadline) {
-    deadman_timer_.cancel();
+    cancel_deadman();
     return;
   }
-  deadman_timer_.expires_at(Clock::time_point(std::chrono::duration_cast<Clock::duration>(*deadline)));
+  const auto expiry = Clock::time_point(std::chrono::duration_cast<Clock::duration>(*deadline));
+  // Each drive moves the deadline later. Cancelling and re-arming the timer every time would
+  // cost the event loop an extra turn per request (the cancelled wait's completion), so the
+  // wait under way is left to fire at the earlier deadline and re-armed from there.
+  if (deadman_waiting_ && deadman_timer_.expiry() <= expiry) return;
+  deadman_timer_.expires_at(expiry);
+  deadman_waiting_ = true;
   deadman_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec == boost::asio::error::operation_aborted) return;
-    const auto previous_owner = arbiter_.owner();
-    const ControlCommand previous = command_;
-    if (!arbiter_.expire(now())) {
-      // A drive moved the deadline after this completion was queued.
-      if (arbiter_.deadline()) arm_deadman();
-      return;
-    }
-    spdlog::info("client {} stopped driving for {:g} s: zero velocity, control released",
-                 previous_owner.value_or(0), config_.control.command_timeout_s);
-    update_command();
-    send_control();
-    notify_if_changed(enabled_, previous_owner, previous);
+    deadman_waiting_ = false;
+    // Not lapsed: a drive moved the deadline since the wait was armed.
+    if (!release_if_lapsed() && arbiter_.deadline()) arm_deadman();
   });
+}
+
+bool ControlLoop::release_if_lapsed() {
+  const auto previous_owner = arbiter_.owner();
+  const ControlCommand previous = command_;
+  if (!arbiter_.expire(now())) return false;
+  spdlog::info("client {} stopped driving for {:g} s: zero velocity, control released", previous_owner.value_or(0),
+               config_.control.command_timeout_s);
+  cancel_deadman();
+  update_command();
+  send_control();
+  notify_if_changed(enabled_, previous_owner, previous);
+  return true;
 }
 
 }  // namespace wheeltec::daemon

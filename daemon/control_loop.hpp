@@ -72,6 +72,9 @@ class ControlLoop {
   void start_enable_refresh();
   void arm_enable_timer();
   void arm_deadman();
+  void cancel_deadman();
+  // If the owner's deadline has passed: zero frame, control released; true if so.
+  bool release_if_lapsed();
   void notify_if_changed(bool was_enabled, std::optional<ClientId> previous_owner, const ControlCommand& previous);
 
   boost::asio::io_context& io_;
@@ -91,6 +94,7 @@ class ControlLoop {
   boost::asio::steady_timer period_timer_;
   boost::asio::steady_timer enable_timer_;
   boost::asio::steady_timer deadman_timer_;
+  bool deadman_waiting_ = false;  // a wait of deadman_timer_ is under way
   ChangeHandler change_handler_;
 };
 

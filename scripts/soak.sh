@@ -2,7 +2,8 @@
 # Soak test of wheeltecd: builds soak_driver if needed and runs it inside
 # scripts/vcan-run (User-Mode Linux when the kernel has no vcan).
 #
-#   scripts/soak.sh [--build-dir DIR] [--duration SECONDS (60)] [--link-period SECONDS (4)] [--keep]
+#   scripts/soak.sh [--build-dir DIR] [--duration SECONDS (60)] [--link-period SECONDS (4)]
+#                   [--max-stall-periods N (2)] [--keep]
 #
 # The emulator sends telemetry at 200 Hz with --drop, --corrupt and --reorder, the link
 # goes down and up every --link-period seconds, and 16 clients subscribe, drive, stall
@@ -15,9 +16,9 @@ driver_args=()
 while (($#)); do
   case $1 in
     --build-dir) build_dir=$2; shift 2 ;;
-    --duration|--link-period) driver_args+=("$1" "$2"); shift 2 ;;
+    --duration|--link-period|--max-stall-periods) driver_args+=("$1" "$2"); shift 2 ;;
     --keep) driver_args+=("$1"); shift ;;
-    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "soak.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done

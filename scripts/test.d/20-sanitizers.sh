@@ -5,7 +5,8 @@
 #   2. UndefinedBehaviorSanitizer build: every vcan integration suite (ctest -L vcan),
 #      which scripts/vcan-run runs inside User-Mode Linux on a kernel without SocketCAN.
 #      ASan and LSan cannot run there: their shadow memory and allocator need address
-#      ranges that UML's processes do not have (the runtime aborts at start-up).
+#      ranges that UML's processes do not have (the runtime aborts at start-up);
+#      25-memcheck.sh runs those suites with the programs under valgrind instead.
 # Any sanitizer report fails the stage: reports make the process fail (halt_on_error,
 # abort_on_error), and UBSan reports are also written to files that are checked at the end.
 #   SANITIZER_BUILD_DIR  prefix of the two build directories (default $BUILD_DIR-sanitizers)

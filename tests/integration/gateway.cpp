@@ -61,7 +61,7 @@ void Gateway::stop_emulator() {
 void Gateway::start_daemon(std::chrono::milliseconds ready_timeout) {
   daemon_ = std::make_unique<ChildProcess>("wheeltecd", program_path("wheeltecd"),
                                            std::vector<std::string>{"--config", config_path_.string()}, directory_);
-  const auto deadline = SteadyClock::now() + ready_timeout;
+  const auto deadline = SteadyClock::now() + ready_timeout + start_allowance();
   while (!RpcConnection::can_connect(socket_path_)) {
     if (auto ended = daemon_->wait_for_exit(std::chrono::milliseconds(0))) {
       throw std::runtime_error("wheeltecd ended at start-up (" + ended->describe() + ")\n" + logs());

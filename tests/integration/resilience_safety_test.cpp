@@ -2,7 +2,8 @@
 // lapsed, link lost, daemon killed), a zero-velocity frame is on the bus within
 // command_timeout_s plus one control period and no non-zero frame follows until a
 // client drives again. Also the link being deleted and re-created, with telemetry
-// resuming within 1 s of the link coming back.
+// resuming within 1 s of the link coming back, and the reopen after a long outage being
+// driven by rtnetlink events rather than the backed-off retry timer.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -266,6 +267,64 @@ TEST_F(ResilienceSafety, RebootedChassisGetsTheEnableFrameAsSoonAsTelemetryRetur
   auto online = client.wait_notification("status", 2s);
   while (online && (*online)["params"]["chassis"]["online"] != true) online = client.wait_notification("status", 2s);
   EXPECT_TRUE(online.has_value()) << "chassis.online did not become true again";
+}
+
+// After a long outage the retry timer has backed off (0.5, 1, 2 s... up to 5 s); only the
+// rtnetlink event can make the daemon reopen within a fraction of a second of the link's return.
+constexpr auto kLongOutage = 4s;
+constexpr double kEventReopenBoundS = 0.3;
+
+// How long after `returned` the daemon's control frames are on the bus again.
+std::optional<double> control_frames_resume_after(const std::string& interface, WallClock::time_point returned) {
+  CanBus bus(interface);
+  const auto frame = bus.wait_for(is_any_control_frame, 2000ms);
+  if (!frame) return std::nullopt;
+  return std::max(0.0, seconds_between(returned, frame->time));
+}
+
+TEST_F(ResilienceSafety, LinkBackUpAfterLongOutageReopensOnTheNetlinkEvent) {
+  const std::string interface = test_interface();
+  Gateway& gateway = start_gateway();
+  {
+    CanBus bus(interface);
+    ASSERT_TRUE(bus.wait_for(is_any_control_frame, 500ms).has_value()) << "no control frames before the outage";
+  }
+  ASSERT_EQ(run_ip("link set down dev " + interface), 0);
+  std::this_thread::sleep_for(kLongOutage);
+  EXPECT_EQ(gateway.connect().call("status")["bus"]["state"], "down");
+  ASSERT_EQ(run_ip("link set up dev " + interface), 0);
+  const auto returned = WallClock::now();
+
+  const auto resumed = control_frames_resume_after(interface, returned);
+  ASSERT_TRUE(resumed.has_value()) << "no control frames within 2 s of the link coming back up";
+  std::cout << "control frames resumed " << *resumed << " s after the link came back up\n";
+  EXPECT_LE(*resumed, kEventReopenBoundS) << "the reopen must follow the rtnetlink event, not the retry timer";
+  EXPECT_EQ(gateway.connect().call("status")["bus"]["state"], "up");
+}
+
+TEST_F(ResilienceSafety, InterfaceRecreatedAfterLongOutageReopensOnTheNetlinkEvent) {
+  const std::string interface = test_interface();
+  Gateway& gateway = start_gateway();
+  auto client = gateway.connect();
+  client.call("subscribe", {{"topics", {"status"}}});
+  ASSERT_EQ(run_ip("link delete dev " + interface), 0);
+  auto down = client.wait_notification("status", 3s);
+  while (down && (*down)["params"]["bus"]["state"] != "down") down = client.wait_notification("status", 3s);
+  ASSERT_TRUE(down.has_value()) << "no status notification with bus.state down after the interface was deleted";
+  std::this_thread::sleep_for(kLongOutage);
+
+  ASSERT_EQ(run_ip("link add dev " + interface + " type vcan"), 0);
+  ASSERT_EQ(run_ip("link set up dev " + interface), 0);
+  const auto returned = WallClock::now();
+
+  const auto resumed = control_frames_resume_after(interface, returned);
+  ASSERT_TRUE(resumed.has_value()) << "no control frames within 2 s of the interface being re-created";
+  std::cout << "control frames resumed " << *resumed << " s after the re-created interface came up\n";
+  EXPECT_LE(*resumed, kEventReopenBoundS) << "the reopen must follow the rtnetlink event, not the retry timer";
+  auto up = client.wait_notification("status", 1s);
+  while (up && (*up)["params"]["bus"]["state"] != "up") up = client.wait_notification("status", 1s);
+  EXPECT_TRUE(up.has_value()) << "no status notification with bus.state up after the interface came back";
+  EXPECT_TRUE(gateway.daemon().running());
 }
 
 }  // namespace

@@ -31,6 +31,18 @@ std::string test_interface() {
   return name != nullptr && *name != '\0' ? name : "vcan0";
 }
 
+std::chrono::milliseconds start_allowance() {
+  const char* text = std::getenv("WHEELTEC_TEST_START_ALLOWANCE_S");
+  if (text == nullptr || *text == '\0') return std::chrono::milliseconds(0);
+  char* end = nullptr;
+  const double seconds = std::strtod(text, &end);
+  if (*end != '\0' || !(seconds >= 0)) {
+    throw std::invalid_argument("WHEELTEC_TEST_START_ALLOWANCE_S must be a number of seconds, not \"" +
+                                std::string(text) + "\"");
+  }
+  return std::chrono::milliseconds(static_cast<long long>(seconds * 1000));
+}
+
 TestDirectory::TestDirectory() {
   std::string pattern = "/tmp/wheeltec-it.XXXXXX";
   if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error(std::string("mkdtemp: ") + std::strerror(errno));

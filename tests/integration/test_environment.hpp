@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -12,6 +13,10 @@ std::filesystem::path program_path(std::string_view name);  // "wheeltecd", "whe
 
 // The CAN interface the tests use ($WHEELTEC_TEST_INTERFACE, default vcan0).
 std::string test_interface();
+
+// Extra time a program may take to start ($WHEELTEC_TEST_START_ALLOWANCE_S, default 0):
+// for runs with the programs under a checker such as valgrind, which starts slowly.
+std::chrono::milliseconds start_allowance();
 
 // A fresh directory under /tmp for one test's files (config, socket, program
 // output). Removed at the end unless the test failed, so that its logs can be read.

@@ -5,28 +5,39 @@
 //
 // It asserts, and prints the figures for:
 //  - no crash: the daemon runs to the end and exits 0 on SIGTERM;
-//  - no stall of the control frames longer than two periods while the link is up;
+//  - no stall of the control frames longer than two periods (--max-stall-periods) while
+//    the link is up and the machine running;
 //  - RSS growth of the daemon under 1 MiB from the end of the warm-up to the end;
 //  - every telemetry record a subscriber receives is valid (shape, ranges, seq order);
 //  - the safety invariant: every non-zero control frame is covered by an accepted drive
 //    no older than command_timeout_s plus one period, with no stop or owner disconnect
 //    in between.
 //
-//   soak_driver [--duration SECONDS (60)] [--link-period SECONDS (4)] [--keep]
+//   soak_driver [--duration SECONDS (60)] [--link-period SECONDS (4)] [--max-stall-periods N (2)] [--keep]
 
+#include <fcntl.h>
+#include <net/if.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <csignal>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <stdexcept>
 #include <iostream>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
@@ -49,12 +60,16 @@ constexpr double kBatteryV = 22.5;
 // Clock and scheduling slack between the driver's threads and the kernel's frame stamps.
 constexpr double kSlackS = 0.03;
 constexpr int kDrivers = 2;
-// A silence of the emulator's 200 Hz telemetry this long means the machine itself stalled.
-constexpr double kMachineStallS = 0.05;
+// The emulator's telemetry period (200 Hz): a longer silence of it means the machine
+// itself (User-Mode Linux, as scheduled by the host) stalled for the difference.
+constexpr double kEmulatorPeriodS = 0.005;
 
 struct Settings {
   double duration_s = 60;
   double link_period_s = 4;
+  // A gap between control frames longer than this many periods, while the link is up and
+  // the machine running, fails the soak.
+  double max_stall_periods = 2;
   bool keep = false;
 };
 
@@ -65,6 +80,68 @@ struct ControlEvent {
   WallClock::time_point sent;      // request written
   WallClock::time_point answered;  // response read (or the connection closed)
 };
+
+// The daemon's /proc/PID/schedstat: time on the CPU and time runnable but waiting for it.
+struct DaemonSchedule {
+  double on_cpu_s = 0;
+  double waiting_s = 0;
+};
+
+// Reads /proc/PID/schedstat again and again through one descriptor.
+class SchedstatReader {
+ public:
+  explicit SchedstatReader(pid_t pid)
+      : fd_(::open(("/proc/" + std::to_string(pid) + "/schedstat").c_str(), O_RDONLY | O_CLOEXEC)) {}
+  ~SchedstatReader() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  SchedstatReader(const SchedstatReader&) = delete;
+  SchedstatReader& operator=(const SchedstatReader&) = delete;
+
+  std::optional<DaemonSchedule> read() const {
+    char text[128];
+    const ssize_t length = fd_ < 0 ? -1 : ::pread(fd_, text, sizeof(text) - 1, 0);
+    if (length <= 0) return std::nullopt;
+    text[length] = '\0';
+    unsigned long long on_cpu_ns = 0;
+    unsigned long long waiting_ns = 0;
+    if (std::sscanf(text, "%llu %llu", &on_cpu_ns, &waiting_ns) != 2) return std::nullopt;
+    return DaemonSchedule{static_cast<double>(on_cpu_ns) * 1e-9, static_cast<double>(waiting_ns) * 1e-9};
+  }
+
+ private:
+  int fd_;
+};
+
+// A control frame and the daemon's schedule as the observer read it right after the frame.
+struct ControlObservation {
+  ObservedFrame frame;
+  std::optional<DaemonSchedule> daemon;
+};
+
+// The 16 clients are the load generator, not what is under test: in User-Mode Linux every
+// process shares one virtual CPU, and at equal priority their threads (parsing 1 600
+// records a second) keep the daemon runnable but off the CPU for hundreds of ms. At nice 19
+// they still send everything they would, but the daemon and the emulator run first.
+void lower_this_thread_priority() { ::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), 19); }
+
+// Takes the interface up or down (SIOCSIFFLAGS, as `ip link set` does). Not by running
+// `ip`: a forked child holds a copy of every descriptor until it execs, so a client that
+// closed its connection meanwhile would stay connected for the daemon.
+void set_link_up(const std::string& interface, bool up) {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) throw std::runtime_error(std::string("socket(AF_INET): ") + std::strerror(errno));
+  ifreq request{};
+  std::strncpy(request.ifr_name, interface.c_str(), IFNAMSIZ - 1);
+  bool done = ::ioctl(fd, SIOCGIFFLAGS, &request) == 0;
+  if (done) {
+    request.ifr_flags = static_cast<short>(up ? (request.ifr_flags | IFF_UP) : (request.ifr_flags & ~IFF_UP));
+    done = ::ioctl(fd, SIOCSIFFLAGS, &request) == 0;
+  }
+  const int error = errno;
+  ::close(fd);
+  if (!done) throw std::runtime_error("set " + interface + (up ? " up: " : " down: ") + std::strerror(error));
+}
 
 struct LinkWindow {  // the link was up from `up` to `down`
   WallClock::time_point up;
@@ -119,7 +196,7 @@ class Soak {
   std::vector<std::string> failures_;
   std::size_t failure_count_ = 0;
   std::vector<ControlEvent> events_;
-  std::vector<ObservedFrame> control_frames_;
+  std::vector<ControlObservation> control_frames_;
   std::vector<WallClock::time_point> telemetry_times_;  // 0x101 frames: is the machine itself running?
   std::vector<LinkWindow> windows_;
   std::atomic<std::uint64_t> records_checked_{0};
@@ -129,12 +206,14 @@ class Soak {
 
 void Soak::watch_bus() {
   CanBus bus(test_interface());
+  const SchedstatReader daemon_schedule(gateway_.daemon().pid());
   while (running()) {
     try {
       auto frame = bus.receive(100ms);
       if (frame && is_control_frame(frame->frame)) {
+        const auto schedule = daemon_schedule.read();
         std::lock_guard lock(mutex_);
-        control_frames_.push_back(*frame);
+        control_frames_.push_back({*frame, schedule});
       } else if (frame && frame->frame.id == 0x101 && !frame->frame.extended) {
         std::lock_guard lock(mutex_);
         telemetry_times_.push_back(frame->time);
@@ -154,13 +233,21 @@ void Soak::toggle_link() {
     std::this_thread::sleep_for(std::chrono::duration<double>(settings_.link_period_s));
     const auto down = WallClock::now();
     link_up_ = false;
-    if (std::system(("ip link set down dev " + interface).c_str()) != 0) fail("ip link set down failed");
+    try {
+      set_link_up(interface, false);
+    } catch (const std::exception& error) {
+      fail(error.what());
+    }
     {
       std::lock_guard lock(mutex_);
       windows_.push_back({up_since, down});
     }
     std::this_thread::sleep_for(700ms);
-    if (std::system(("ip link set up dev " + interface).c_str()) != 0) fail("ip link set up failed");
+    try {
+      set_link_up(interface, true);
+    } catch (const std::exception& error) {
+      fail(error.what());
+    }
     up_since = WallClock::now();
     link_up_ = true;
   }
@@ -205,8 +292,9 @@ void Soak::driver(int index) {
             break;
         }
       }
-      const auto closed = WallClock::now();
+      // Stamped once closed: the thread may be descheduled between reading the clock and close().
       client.close();
+      const auto closed = WallClock::now();
       record({ControlEvent::disconnected, index, closed, closed});
     } catch (const std::exception& error) {
       if (running() && link_up_) fail(std::string("driver: ") + error.what());
@@ -298,41 +386,60 @@ void Soak::check_frames() {
   double widest_gap = 0;
   double widest_reopen = 0;
   int machine_stalls = 0;
+  int daemon_gaps = 0;  // over two periods with the machine running
   for (const auto& window : windows_) {
     if (seconds_between(window.up, window.down) < 1.0) continue;  // the end of the run fell just after a link-up
-    std::vector<WallClock::time_point> times;
-    for (const auto& frame : control_frames_) {
-      if (frame.time >= window.up && frame.time < window.down) times.push_back(frame.time);
+    std::vector<const ControlObservation*> frames;
+    for (const auto& observation : control_frames_) {
+      if (observation.frame.time >= window.up && observation.frame.time < window.down) frames.push_back(&observation);
     }
-    if (times.empty()) {
+    if (frames.empty()) {
       fail("no control frames during a link-up window of " + std::to_string(seconds_between(window.up, window.down)) +
            " s");
       continue;
     }
-    widest_reopen = std::max(widest_reopen, seconds_between(window.up, times.front()));
-    for (std::size_t i = 1; i < times.size(); ++i) {
-      const double gap = seconds_between(times[i - 1], times[i]);
+    widest_reopen = std::max(widest_reopen, seconds_between(window.up, frames.front()->frame.time));
+    for (std::size_t i = 1; i < frames.size(); ++i) {
+      const auto& before = *frames[i - 1];
+      const auto& after = *frames[i];
+      const double gap = seconds_between(before.frame.time, after.frame.time);
       if (gap <= 2 * kPeriodS) {
         widest_gap = std::max(widest_gap, gap);
         continue;
       }
-      // Was the emulator, another process, sending its 200 Hz telemetry meanwhile? If it
-      // was silent too, the whole (virtual) machine was not running: not the daemon's stall.
-      const double machine_gap = widest_telemetry_gap(times[i - 1], times[i]);
-      std::cout << "soak: control gap of " << gap * 1000 << " ms, " << seconds_between(window.up, times[i - 1])
-                << " s into a link-up window; widest telemetry gap in it " << machine_gap * 1000 << " ms\n";
-      if (machine_gap > kMachineStallS) {
+      // Was the emulator, another process, sending its 200 Hz telemetry meanwhile? For as
+      // long as it was silent beyond its period, the whole (virtual) machine was not running:
+      // that much of the gap is not the daemon's.
+      const double machine_gap = widest_telemetry_gap(before.frame.time, after.frame.time);
+      const double machine_stall = std::max(0.0, machine_gap - kEmulatorPeriodS);
+      // For the log only: how long the daemon was runnable but off the CPU, and on it. The
+      // observer reads these when it gets to run (not at the frames' times), and User-Mode
+      // Linux counts them in 10 ms ticks, so they explain a gap but cannot judge it.
+      double waiting = 0;
+      double on_cpu = 0;
+      if (before.daemon && after.daemon) {
+        waiting = after.daemon->waiting_s - before.daemon->waiting_s;
+        on_cpu = after.daemon->on_cpu_s - before.daemon->on_cpu_s;
+      }
+      std::cout << "soak: control gap of " << gap * 1000 << " ms, " << seconds_between(window.up, before.frame.time)
+                << " s into a link-up window; widest telemetry gap in it " << machine_gap * 1000
+                << " ms; daemon waiting for the CPU " << waiting * 1000 << " ms, on it " << on_cpu * 1000 << " ms\n";
+      if (gap - machine_stall <= 2 * kPeriodS) {
         ++machine_stalls;
       } else {
         widest_gap = std::max(widest_gap, gap);
+        ++daemon_gaps;
       }
     }
   }
   std::cout << "soak: widest gap between control frames while up: " << widest_gap * 1000 << " ms\n"
             << "soak: slowest reopen after link up: " << widest_reopen * 1000 << " ms\n"
-            << "soak: control gaps over two periods while the emulator was silent too (machine stalls, not counted): "
-            << machine_stalls << "\n";
-  if (widest_gap > 2 * kPeriodS) fail("control frames stalled for " + std::to_string(widest_gap) + " s while the link was up");
+            << "soak: control gaps over two periods, but not once the emulator's silence in them is taken off "
+               "(machine stalls, not counted): "
+            << machine_stalls << "\n"
+            << "soak: control gaps over two periods with the machine running: " << daemon_gaps << " (the bound is "
+            << settings_.max_stall_periods << " periods, " << settings_.max_stall_periods * kPeriodS * 1000 << " ms)\n";
+  if (widest_gap > settings_.max_stall_periods * kPeriodS) fail("control frames stalled for " + std::to_string(widest_gap) + " s while the link was up");
   if (widest_reopen > 1.0) fail("control frames resumed " + std::to_string(widest_reopen) + " s after link up");
 
   // Safety: a non-zero frame carries one driver's target. That driver must have had a
@@ -340,7 +447,8 @@ void Soak::check_frames() {
   // the answer was read), and no stop (from anyone) or disconnect of that driver may have
   // been sent after that answer and handled before the frame.
   std::size_t non_zero = 0;
-  for (const auto& frame : control_frames_) {
+  for (const auto& observation : control_frames_) {
+    const ObservedFrame& frame = observation.frame;
     if (is_zero_control_frame(frame.frame)) continue;
     ++non_zero;
     int driver = -1;
@@ -418,23 +526,50 @@ int Soak::run() {
   threads.emplace_back([this] { watch_bus(); });
   threads.emplace_back([this] { toggle_link(); });
   // 16 clients: 2 drivers, 8 subscribers, 3 stallers, 3 pollers.
-  for (int i = 0; i < kDrivers; ++i) threads.emplace_back([this, i] { driver(i); });
-  for (int i = 0; i < 8; ++i) threads.emplace_back([this, i] { subscriber(i); });
-  for (int i = 0; i < 3; ++i) threads.emplace_back([this] { staller(); });
-  for (int i = 0; i < 3; ++i) threads.emplace_back([this, i] { poller(i); });
+  for (int i = 0; i < kDrivers; ++i) {
+    threads.emplace_back([this, i] {
+      lower_this_thread_priority();
+      driver(i);
+    });
+  }
+  for (int i = 0; i < 8; ++i) {
+    threads.emplace_back([this, i] {
+      lower_this_thread_priority();
+      subscriber(i);
+    });
+  }
+  for (int i = 0; i < 3; ++i) {
+    threads.emplace_back([this] {
+      lower_this_thread_priority();
+      staller();
+    });
+  }
+  for (int i = 0; i < 3; ++i) {
+    threads.emplace_back([this, i] {
+      lower_this_thread_priority();
+      poller(i);
+    });
+  }
 
   const double warm_up_s = std::min(10.0, settings_.duration_s / 4);
   std::this_thread::sleep_for(std::chrono::duration<double>(warm_up_s));
   const long rss_start = daemon_rss_kib();
   const double cpu_start = daemon_cpu_s();
+  const SchedstatReader daemon_schedule(gateway_.daemon().pid());
+  const auto schedule_start = daemon_schedule.read();
   std::this_thread::sleep_for(std::chrono::duration<double>(settings_.duration_s - warm_up_s));
   const long rss_end = daemon_rss_kib();
   const double cpu_busy = (daemon_cpu_s() - cpu_start) / (settings_.duration_s - warm_up_s);
+  const auto schedule_end = daemon_schedule.read();
   const bool alive = gateway_.daemon().running();
   finished_ = true;
   for (auto& thread : threads) thread.join();
 
-  std::system(("ip link set up dev " + test_interface()).c_str());
+  try {
+    set_link_up(test_interface(), true);
+  } catch (const std::exception& error) {
+    fail(error.what());
+  }
   if (!alive) fail("wheeltecd died during the soak");
   const Json stats = alive ? gateway_.connect().call("stats") : Json();
   const ExitStatus ended = gateway_.daemon().terminate();
@@ -446,7 +581,13 @@ int Soak::run() {
             << ", client reconnects " << reconnects_ << "\n"
             << "soak: daemon RSS " << rss_start << " KiB after " << warm_up_s << " s warm-up, " << rss_end
             << " KiB at the end (growth " << rss_end - rss_start << " KiB)\n"
-            << "soak: daemon CPU use after warm-up " << cpu_busy * 100 << " %\n"
+            << "soak: daemon CPU use after warm-up " << cpu_busy * 100 << " %\n";
+  if (schedule_start && schedule_end) {
+    std::cout << "soak: daemon runnable but waiting for the CPU after warm-up "
+              << (schedule_end->waiting_s - schedule_start->waiting_s) / (settings_.duration_s - warm_up_s) * 100
+              << " % of the time\n";
+  }
+  std::cout
             << "soak: daemon stats " << stats.dump() << "\n";
   if (rss_start < 0 || rss_end < 0) fail("cannot read the daemon's RSS");
   if (rss_end - rss_start >= 1024) fail("RSS grew by " + std::to_string(rss_end - rss_start) + " KiB after warm-up");
@@ -471,17 +612,20 @@ int main(int argc, char** argv) {
   integration::Settings settings;
   for (int i = 1; i < argc; ++i) {
     const std::string argument = argv[i];
-    if ((argument == "--duration" || argument == "--link-period") && i + 1 < argc) {
+    if ((argument == "--duration" || argument == "--link-period" || argument == "--max-stall-periods") &&
+        i + 1 < argc) {
       const double value = std::atof(argv[++i]);
       if (!(value > 0)) {
-        std::cerr << "soak_driver: " << argument << " needs a positive number of seconds\n";
+        std::cerr << "soak_driver: " << argument << " needs a positive number\n";
         return 2;
       }
-      (argument == "--duration" ? settings.duration_s : settings.link_period_s) = value;
+      (argument == "--duration"      ? settings.duration_s
+       : argument == "--link-period" ? settings.link_period_s
+                                     : settings.max_stall_periods) = value;
     } else if (argument == "--keep") {
       settings.keep = true;
     } else {
-      std::cerr << "usage: soak_driver [--duration SECONDS] [--link-period SECONDS] [--keep]\n";
+      std::cerr << "usage: soak_driver [--duration SECONDS] [--link-period SECONDS] [--max-stall-periods N] [--keep]\n";
       return 2;
     }
   }
