@@ -37,6 +37,9 @@ void TelemetryFaultInjector::apply(TelemetryGroup& group) {
       ++i;  // the moved frame is not moved again
     }
   }
+  // At most one flipped bit per group: two flips of the same bit position in different
+  // bytes cancel in the record's XOR checksum, and the emulator's corruption is meant to
+  // be caught.
   for (std::size_t i = 0; i < group.count; ++i) {
     CanFrame& frame = group.frames[i];
     if (frame.dlc > 0 && happens(rates_.corrupt)) {
@@ -44,6 +47,7 @@ void TelemetryFaultInjector::apply(TelemetryGroup& group) {
       const auto bit = std::uniform_int_distribution<int>(0, 7)(random_);
       frame.data[byte] = static_cast<std::uint8_t>(frame.data[byte] ^ (1u << bit));
       ++counters_.corrupted;
+      break;
     }
   }
   std::size_t kept = 0;

@@ -59,6 +59,18 @@ TEST(TelemetryGroupTest, DropRemovesFrames) {
   EXPECT_EQ(faults.counters().dropped, 3u);
 }
 
+// Flipped bits of a group, and the record its frames carry.
+int flipped_bits(const TelemetryGroup& group, const TelemetryGroup& original, RecordBytes& received) {
+  int flipped = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    for (std::size_t b = 0; b < 8; ++b) {
+      flipped += std::popcount(static_cast<unsigned>(group.frames[i].data[b] ^ original.frames[i].data[b]));
+      received[8 * i + b] = group.frames[i].data[b];
+    }
+  }
+  return flipped;
+}
+
 TEST(TelemetryGroupTest, CorruptFlipsExactlyOneDataBitThatTheRecordCheckCatches) {
   TelemetryFaultInjector faults({.corrupt = 1.0}, 7);
   const TelemetryGroup original = make_telemetry_group(example_record());
@@ -66,19 +78,34 @@ TEST(TelemetryGroupTest, CorruptFlipsExactlyOneDataBitThatTheRecordCheckCatches)
     TelemetryGroup group = original;
     faults.apply(group);
     ASSERT_EQ(group.count, 3u);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(group.frames[i].id, original.frames[i].id);
     RecordBytes received{};
-    for (std::size_t i = 0; i < 3; ++i) {
-      EXPECT_EQ(group.frames[i].id, original.frames[i].id);
-      int flipped = 0;
-      for (std::size_t b = 0; b < 8; ++b) {
-        flipped += std::popcount(static_cast<unsigned>(group.frames[i].data[b] ^ original.frames[i].data[b]));
-        received[8 * i + b] = group.frames[i].data[b];
-      }
-      EXPECT_EQ(flipped, 1);
-    }
+    EXPECT_EQ(flipped_bits(group, original, received), 1);
     EXPECT_NE(check_record(received), RecordFault::none);
   }
-  EXPECT_EQ(faults.counters().corrupted, 600u);
+  EXPECT_EQ(faults.counters().corrupted, 200u);
+}
+
+// Two frames of one group each with a flip of the same bit position would cancel in the
+// XOR checksum and reach subscribers as a valid record (the soak test saw vy 2.048 m/s).
+TEST(TelemetryGroupTest, EveryCorruptedGroupFailsTheRecordCheckAtAnyRate) {
+  for (const double rate : {0.01, 0.3, 0.6, 0.9}) {
+    TelemetryFaultInjector faults({.corrupt = rate}, 11);
+    const TelemetryGroup original = make_telemetry_group(example_record());
+    int corrupted_groups = 0;
+    for (int n = 0; n < 5000; ++n) {
+      TelemetryGroup group = original;
+      faults.apply(group);
+      RecordBytes received{};
+      const int flipped = flipped_bits(group, original, received);
+      ASSERT_LE(flipped, 1) << "rate " << rate;
+      if (flipped == 0) continue;
+      ++corrupted_groups;
+      ASSERT_NE(check_record(received), RecordFault::none) << "rate " << rate;
+    }
+    EXPECT_EQ(static_cast<std::uint64_t>(corrupted_groups), faults.counters().corrupted);
+    if (rate >= 0.3) EXPECT_GT(corrupted_groups, 1000) << "rate " << rate;
+  }
 }
 
 TEST(TelemetryGroupTest, ReorderSwapsAFrameWithTheNextOfItsGroup) {

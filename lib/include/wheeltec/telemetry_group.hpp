@@ -22,7 +22,7 @@ TelemetryGroup make_telemetry_group(const RecordBytes& record);
 // Per-frame probabilities, each 0..1.
 struct TelemetryFaultRates {
   double drop = 0.0;     // the frame is not sent
-  double corrupt = 0.0;  // one random bit of one data byte is flipped
+  double corrupt = 0.0;  // one random bit of one data byte is flipped; at most one frame per group
   double reorder = 0.0;  // the frame swaps places with the next frame of its group
 };
 
