@@ -226,12 +226,7 @@ void ClientSession::start_write(WriteMode mode) {
     consume_written(written);
     backlog_changed();
     if (output_.empty()) {
-      if (closing_) {
-        linger();
-      } else if (read_paused_ && !above_soft_limit_) {
-        read_paused_ = false;
-        post_pump();  // not pump(): this may run while a request is being handled
-      }
+      output_progressed(Resume::posted);  // this may run while a request is being handled
       return;
     }
   }
@@ -280,15 +275,24 @@ void ClientSession::on_write(const boost::system::error_code& error, std::size_t
   in_flight_ = 0;
   consume_written(bytes);
   backlog_changed();
-  if (!output_.empty()) {
-    start_write(WriteMode::wait_for_completion);
-  } else if (closing_) {
+  if (!output_.empty()) start_write(WriteMode::wait_for_completion);
+  output_progressed(Resume::at_once);
+}
+
+// After a write: a close that waited for the output to drain goes ahead, and reading
+// paused by backpressure resumes once the backlog is below the soft limit.
+void ClientSession::output_progressed(Resume resume) {
+  if (output_.empty() && closing_) {
     linger();
     return;
   }
   if (read_paused_ && !above_soft_limit_) {
     read_paused_ = false;
-    pump();
+    if (resume == Resume::posted) {
+      post_pump();
+    } else {
+      pump();
+    }
   }
 }
 

@@ -85,6 +85,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
 
   enum class LinesResult { drained, yielded, blocked };
   enum class WriteMode { at_once, wait_for_completion };
+  enum class Resume { at_once, posted };  // how reading paused by backpressure is resumed
 
   void pump();
   void post_pump();
@@ -107,6 +108,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   void on_slow_timer(const boost::system::error_code& error);
 
   void close_after_flush();
+  void output_progressed(Resume resume);
   void linger();
   void discard_input(std::size_t discarded);
   void disconnect_slow(const std::string& why);

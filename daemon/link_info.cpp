@@ -1,7 +1,6 @@
 #include "link_info.hpp"
 
 #include <linux/can/netlink.h>
-#include <linux/if_link.h>
 #include <linux/netlink.h>
 #include <linux/rtnetlink.h>
 #include <net/if.h>
@@ -11,8 +10,11 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <span>
 
 #include <spdlog/spdlog.h>
+
+#include "wheeltec/link_event.hpp"
 
 namespace wheeltec::daemon {
 namespace {
@@ -40,35 +42,6 @@ std::string_view can_state_name(std::uint32_t state) {
     case CAN_STATE_STOPPED: return "stopped";
     case CAN_STATE_SLEEPING: return "sleeping";
     default: return "unknown";
-  }
-}
-
-// Nested attributes of IFLA_INFO_DATA for kind "can".
-void parse_can_data(const rtattr* data, int length, LinkInfo& info) {
-  for (auto* attribute = static_cast<const rtattr*>(RTA_DATA(data)); RTA_OK(attribute, length);
-       attribute = RTA_NEXT(attribute, length)) {
-    if (attribute->rta_type == IFLA_CAN_BITTIMING && RTA_PAYLOAD(attribute) >= sizeof(can_bittiming)) {
-      can_bittiming timing;
-      std::memcpy(&timing, RTA_DATA(attribute), sizeof(timing));
-      if (timing.bitrate != 0) info.bitrate = timing.bitrate;
-    } else if (attribute->rta_type == IFLA_CAN_STATE && RTA_PAYLOAD(attribute) >= sizeof(std::uint32_t)) {
-      std::uint32_t state = 0;
-      std::memcpy(&state, RTA_DATA(attribute), sizeof(state));
-      info.can_state = std::string(can_state_name(state));
-    }
-  }
-}
-
-void parse_link_info(const rtattr* link_info, LinkInfo& info) {
-  int length = static_cast<int>(RTA_PAYLOAD(link_info));
-  for (auto* attribute = static_cast<const rtattr*>(RTA_DATA(link_info)); RTA_OK(attribute, length);
-       attribute = RTA_NEXT(attribute, length)) {
-    if (attribute->rta_type == IFLA_INFO_KIND) {
-      info.kind.assign(static_cast<const char*>(RTA_DATA(attribute)),
-                       ::strnlen(static_cast<const char*>(RTA_DATA(attribute)), RTA_PAYLOAD(attribute)));
-    } else if (attribute->rta_type == IFLA_INFO_DATA) {
-      parse_can_data(attribute, static_cast<int>(RTA_PAYLOAD(attribute)), info);
-    }
   }
 }
 
@@ -102,33 +75,31 @@ std::optional<LinkInfo> query_link_info(const std::string& interface, std::error
   }
 
   // The kernel queues the answer before send() returns, so this never waits.
-  alignas(nlmsghdr) std::array<char, 16384> buffer;
+  alignas(nlmsghdr) std::array<std::uint8_t, 16384> buffer;
   const ssize_t received = ::recv(socket.fd(), buffer.data(), buffer.size(), MSG_DONTWAIT);
   if (received < 0) {
     error.assign(errno, std::system_category());
     return std::nullopt;
   }
-  auto length = static_cast<unsigned>(received);
-  for (auto* message = reinterpret_cast<const nlmsghdr*>(buffer.data()); NLMSG_OK(message, length);
-       message = NLMSG_NEXT(message, length)) {
-    if (message->nlmsg_type == NLMSG_ERROR) {
-      const auto* failure = static_cast<const nlmsgerr*>(NLMSG_DATA(message));
-      error.assign(-failure->error, std::system_category());
-      return std::nullopt;
-    }
-    if (message->nlmsg_type != RTM_NEWLINK) continue;
-    LinkInfo info;
-    const auto* body = static_cast<const ifinfomsg*>(NLMSG_DATA(message));
-    int attributes_length = static_cast<int>(IFLA_PAYLOAD(message));
-    for (auto* attribute = IFLA_RTA(body); RTA_OK(attribute, attributes_length);
-         attribute = RTA_NEXT(attribute, attributes_length)) {
-      if (attribute->rta_type == IFLA_LINKINFO) parse_link_info(attribute, info);
-    }
-    error.clear();
-    return info;
+  std::optional<LinkInfo> info;
+  const auto summary = parse_link_messages(
+      std::span<const std::uint8_t>(buffer.data(), static_cast<std::size_t>(received)), [&](const LinkEvent& event) {
+        if (info || event.change != LinkChange::updated) return;
+        info.emplace();
+        info->kind = std::string(event.kind);
+        info->bitrate = event.bitrate;
+        if (event.can_state) info->can_state = std::string(can_state_name(*event.can_state));
+      });
+  if (summary.error) {
+    error.assign(*summary.error, std::system_category());
+    return std::nullopt;
   }
-  error = std::make_error_code(std::errc::protocol_error);
-  return std::nullopt;
+  if (!info) {
+    error = std::make_error_code(std::errc::protocol_error);
+    return std::nullopt;
+  }
+  error.clear();
+  return info;
 }
 
 void check_link_bitrate(const std::string& interface, std::uint32_t configured_bitrate) {

@@ -1,5 +1,6 @@
 #include "wheeltec/link_event.hpp"
 
+#include <linux/can/netlink.h>
 #include <linux/if_link.h>
 #include <linux/netlink.h>
 #include <linux/rtnetlink.h>
@@ -22,21 +23,56 @@ T read_struct(std::span<const std::uint8_t> bytes) {
   return value;
 }
 
-// The IFLA_IFNAME attribute among `attributes`; false when an attribute's length is
-// inconsistent with the bytes left.
-bool find_interface_name(std::span<const std::uint8_t> attributes, std::string_view& name) {
+// Calls visit(type, payload) for each attribute in `attributes`; false when an attribute's
+// length is inconsistent with the bytes left, or when `visit` returns false.
+template <class Visit>
+bool for_each_attribute(std::span<const std::uint8_t> attributes, Visit&& visit) {
   while (!attributes.empty()) {
     if (attributes.size() < sizeof(rtattr)) return false;
     const auto header = read_struct<rtattr>(attributes);
     if (header.rta_len < sizeof(rtattr) || header.rta_len > attributes.size()) return false;
-    if (header.rta_type == IFLA_IFNAME) {
-      const auto payload = attributes.subspan(sizeof(rtattr), header.rta_len - sizeof(rtattr));
-      const char* text = reinterpret_cast<const char*>(payload.data());
-      name = std::string_view(text, ::strnlen(text, payload.size()));
-    }
+    if (!visit(header.rta_type, attributes.subspan(sizeof(rtattr), header.rta_len - sizeof(rtattr)))) return false;
     attributes = attributes.subspan(std::min(align4(header.rta_len), attributes.size()));
   }
   return true;
+}
+
+std::string_view as_text(std::span<const std::uint8_t> payload) {
+  const char* text = reinterpret_cast<const char*>(payload.data());
+  return std::string_view(text, ::strnlen(text, payload.size()));
+}
+
+// IFLA_INFO_DATA of a CAN controller. Other kinds put other attributes there: only "can"
+// is read.
+bool read_can_data(std::span<const std::uint8_t> data, LinkEvent& event) {
+  return for_each_attribute(data, [&](unsigned type, std::span<const std::uint8_t> payload) {
+    if (type == IFLA_CAN_BITTIMING && payload.size() >= sizeof(can_bittiming)) {
+      const auto timing = read_struct<can_bittiming>(payload);
+      if (timing.bitrate != 0) event.bitrate = timing.bitrate;
+    } else if (type == IFLA_CAN_STATE && payload.size() >= sizeof(std::uint32_t)) {
+      event.can_state = read_struct<std::uint32_t>(payload);
+    }
+    return true;
+  });
+}
+
+bool read_link_info(std::span<const std::uint8_t> link_info, LinkEvent& event) {
+  std::span<const std::uint8_t> data;
+  const bool consistent = for_each_attribute(link_info, [&](unsigned type, std::span<const std::uint8_t> payload) {
+    if (type == IFLA_INFO_KIND) event.kind = as_text(payload);
+    if (type == IFLA_INFO_DATA) data = payload;
+    return true;
+  });
+  if (!consistent) return false;
+  return event.kind != "can" || read_can_data(data, event);
+}
+
+bool read_link_attributes(std::span<const std::uint8_t> attributes, LinkEvent& event) {
+  return for_each_attribute(attributes, [&](unsigned type, std::span<const std::uint8_t> payload) {
+    if (type == IFLA_IFNAME) event.name = as_text(payload);
+    if (type == IFLA_LINKINFO) return read_link_info(payload, event);
+    return true;
+  });
 }
 
 }  // namespace
@@ -94,7 +130,7 @@ LinkMessagesSummary parse_link_messages(std::span<const std::uint8_t> datagram, 
     event.index = body.ifi_index;
     event.flags = body.ifi_flags;
     const auto attributes = payload.subspan(std::min(align4(sizeof(ifinfomsg)), payload.size()));
-    if (!find_interface_name(attributes, event.name)) {
+    if (!read_link_attributes(attributes, event)) {
       summary.malformed = true;
       break;
     }

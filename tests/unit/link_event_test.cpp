@@ -1,6 +1,7 @@
 #include "wheeltec/link_event.hpp"
 
 #include <gtest/gtest.h>
+#include <linux/can/netlink.h>
 #include <linux/if_link.h>
 #include <linux/netlink.h>
 #include <linux/rtnetlink.h>
@@ -86,6 +87,7 @@ struct Parsed {
   LinkMessagesSummary summary;
   std::vector<LinkEvent> events;
   std::vector<std::string> names;  // copies: the events' views point into the buffer
+  std::vector<std::string> kinds;
 };
 
 // Parses from a heap copy of exactly `bytes.size()` bytes, so that AddressSanitizer or
@@ -98,6 +100,7 @@ Parsed parse(const Bytes& bytes) {
                                     [&](const LinkEvent& event) {
                                       out.events.push_back(event);
                                       out.names.emplace_back(event.name);
+                                      out.kinds.emplace_back(event.kind);
                                     });
   return out;
 }
@@ -124,6 +127,77 @@ TEST(LinkEvent, NewLinkDownAndDelLink) {
   EXPECT_EQ(parsed.events[1].change, LinkChange::removed);
   EXPECT_EQ(parsed.names[1], "can1");
   EXPECT_EQ(parsed.summary.events, 2u);
+}
+
+Bytes nested(std::uint16_t type, const std::vector<Bytes>& attributes) {
+  Bytes payload;
+  for (const auto& a : attributes) payload.insert(payload.end(), a.begin(), a.end());
+  return attribute(type, payload.data(), payload.size());
+}
+
+Bytes kind_attribute(const std::string& kind) { return attribute(IFLA_INFO_KIND, kind.c_str(), kind.size() + 1); }
+
+Bytes bit_timing_attribute(std::uint32_t bitrate) {
+  can_bittiming timing{};
+  timing.bitrate = bitrate;
+  timing.sample_point = 875;
+  return attribute(IFLA_CAN_BITTIMING, &timing, sizeof(timing));
+}
+
+Bytes can_state_attribute(std::uint32_t state) { return attribute(IFLA_CAN_STATE, &state, sizeof(state)); }
+
+TEST(LinkEvent, CanControllerGivesKindBitrateAndState) {
+  const auto parsed = parse(link_message(
+      RTM_NEWLINK, 4, IFF_UP,
+      {name_attribute("can0"),
+       nested(IFLA_LINKINFO, {kind_attribute("can"), nested(IFLA_INFO_DATA, {bit_timing_attribute(1000000),
+                                                                             can_state_attribute(CAN_STATE_BUS_OFF)})})}));
+  ASSERT_EQ(parsed.events.size(), 1u);
+  EXPECT_EQ(parsed.names[0], "can0");
+  EXPECT_EQ(parsed.kinds[0], "can");
+  EXPECT_EQ(parsed.events[0].bitrate, std::optional<std::uint32_t>(1000000));
+  EXPECT_EQ(parsed.events[0].can_state, std::optional<std::uint32_t>(CAN_STATE_BUS_OFF));
+  EXPECT_FALSE(parsed.summary.malformed);
+}
+
+TEST(LinkEvent, VirtualInterfaceHasAKindButNoBitrate) {
+  const auto parsed =
+      parse(link_message(RTM_NEWLINK, 4, IFF_UP, {nested(IFLA_LINKINFO, {kind_attribute("vcan")}), name_attribute("vcan0")}));
+  ASSERT_EQ(parsed.events.size(), 1u);
+  EXPECT_EQ(parsed.kinds[0], "vcan");
+  EXPECT_EQ(parsed.names[0], "vcan0");
+  EXPECT_FALSE(parsed.events[0].bitrate.has_value());
+  EXPECT_FALSE(parsed.events[0].can_state.has_value());
+}
+
+TEST(LinkEvent, UnsetBitrateIsAbsent) {
+  const auto parsed = parse(link_message(
+      RTM_NEWLINK, 4, 0, {nested(IFLA_LINKINFO, {kind_attribute("can"), nested(IFLA_INFO_DATA, {bit_timing_attribute(0)})})}));
+  ASSERT_EQ(parsed.events.size(), 1u);
+  EXPECT_FALSE(parsed.events[0].bitrate.has_value());
+}
+
+TEST(LinkEvent, OtherKindsDataIsNotReadAsCan) {
+  // vxcan's IFLA_INFO_DATA holds a peer description whose attribute numbers overlap CAN's.
+  const auto parsed = parse(link_message(
+      RTM_NEWLINK, 4, 0,
+      {nested(IFLA_LINKINFO, {kind_attribute("vxcan"), nested(IFLA_INFO_DATA, {bit_timing_attribute(500000)})})}));
+  ASSERT_EQ(parsed.events.size(), 1u);
+  EXPECT_EQ(parsed.kinds[0], "vxcan");
+  EXPECT_FALSE(parsed.events[0].bitrate.has_value());
+}
+
+TEST(LinkEvent, NestedAttributeRunningPastItsParentIsMalformed) {
+  Bytes data = nested(IFLA_INFO_DATA, {bit_timing_attribute(1000000)});
+  // The inner attribute claims 8 bytes more than IFLA_INFO_DATA holds.
+  rtattr inner;
+  std::memcpy(&inner, data.data() + sizeof(rtattr), sizeof(inner));
+  inner.rta_len = static_cast<unsigned short>(inner.rta_len + 8);
+  std::memcpy(data.data() + sizeof(rtattr), &inner, sizeof(inner));
+  const auto parsed =
+      parse(link_message(RTM_NEWLINK, 4, IFF_UP, {nested(IFLA_LINKINFO, {kind_attribute("can"), data}), name_attribute("can0")}));
+  EXPECT_TRUE(parsed.summary.malformed);
+  EXPECT_TRUE(parsed.events.empty());
 }
 
 TEST(LinkEvent, MessageWithoutNameHasEmptyName) {

@@ -24,6 +24,10 @@ struct LinkEvent {
   int index = 0;              // ifi_index
   std::uint32_t flags = 0;    // ifi_flags (IFF_UP, IFF_RUNNING...)
   std::string_view name;      // IFLA_IFNAME; empty when absent. Points into the parsed buffer.
+  std::string_view kind;      // IFLA_LINKINFO's IFLA_INFO_KIND ("can", "vcan"...); empty when absent. Likewise.
+  // From IFLA_LINKINFO's IFLA_INFO_DATA, which only CAN controllers have:
+  std::optional<std::uint32_t> bitrate;    // IFLA_CAN_BITTIMING's bitrate, when non-zero
+  std::optional<std::uint32_t> can_state;  // IFLA_CAN_STATE: enum can_state (CAN_STATE_ERROR_ACTIVE...)
 
   bool up() const;            // IFF_UP
 };
@@ -34,7 +38,8 @@ struct LinkMessagesSummary {
   bool done = false;                // NLMSG_DONE ended a multipart answer; parsing stopped there
   std::optional<int> error;         // NLMSG_ERROR with a non-zero errno (positive); parsing stopped there
   // The buffer ended inside a header, a length field was inconsistent, or a link message's
-  // attributes ran past it: link state may have been missed. Parsing stopped at that message.
+  // attributes (nested ones included) ran past it: link state may have been missed. Parsing
+  // stopped at that message.
   bool malformed = false;
 };
 
