@@ -327,5 +327,39 @@ TEST_F(ResilienceSafety, InterfaceRecreatedAfterLongOutageReopensOnTheNetlinkEve
   EXPECT_TRUE(gateway.daemon().running());
 }
 
+TEST_F(ResilienceSafety, InterfaceAbsentAtStartIsServedAndOpenedWhenItAppears) {
+  const std::string interface = test_interface();
+  ASSERT_EQ(run_ip("link delete dev " + interface), 0);
+  gateway_ = std::make_unique<Gateway>(directory_.path(), GatewayOptions{});
+  gateway_->start_daemon();
+  Gateway& gateway = *gateway_;
+
+  auto client = gateway.connect();
+  const Json status = client.call("status");
+  EXPECT_EQ(status["bus"]["state"], "down") << status.dump();
+  EXPECT_EQ(status["chassis"]["online"], false) << status.dump();
+  const Json refused = client.request("drive", {{"vx", 0.2}});
+  EXPECT_EQ(refused["error"]["code"], -32003) << "drive on an absent interface: " << refused.dump();
+  client.call("subscribe", {{"topics", {"status"}}});
+  // Past the first retries, so that only the rtnetlink event can explain a prompt open.
+  std::this_thread::sleep_for(kLongOutage);
+  EXPECT_TRUE(gateway.daemon().running());
+
+  ASSERT_EQ(run_ip("link add dev " + interface + " type vcan"), 0);
+  ASSERT_EQ(run_ip("link set up dev " + interface), 0);
+  const auto appeared = WallClock::now();
+  const auto resumed = control_frames_resume_after(interface, appeared);
+  ASSERT_TRUE(resumed.has_value()) << "no control frames within 2 s of the interface appearing\n" << gateway.logs();
+  std::cout << "control frames began " << *resumed << " s after the interface appeared\n";
+  EXPECT_LE(*resumed, kEventReopenBoundS) << "the open must follow the rtnetlink event, not the retry timer";
+  auto up = client.wait_notification("status", 1s);
+  while (up && (*up)["params"]["bus"]["state"] != "up") up = client.wait_notification("status", 1s);
+  EXPECT_TRUE(up.has_value()) << "no status notification with bus.state up after the interface appeared";
+
+  // The chassis on the new interface: telemetry is decoded and the chassis comes online.
+  gateway.start_emulator();
+  gateway.wait_online();
+}
+
 }  // namespace
 }  // namespace integration
