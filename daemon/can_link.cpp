@@ -10,7 +10,6 @@
 #include <cstring>
 
 #include <boost/asio/error.hpp>
-#include <boost/asio/post.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -20,8 +19,10 @@ namespace wheeltec::daemon {
 
 namespace {
 
-// Frames handled per wakeup before yielding to the other handlers (timers, clients).
-constexpr int kDrainBudget = 64;
+// Bytes of receive queue asked for: a few thousand frames (the kernel counts each frame's
+// buffer overhead too), so that a burst of telemetry while the daemon writes to many
+// subscribers is queued rather than dropped. Unprivileged, net.core.rmem_max caps it.
+constexpr int kReceiveBufferBytes = 4 * 1024 * 1024;
 
 // What reaches the daemon: the three telemetry IDs as standard frames (data or RTR, so that
 // RTR frames on them can be counted as discards) and as 29-bit frames carrying exactly the
@@ -52,8 +53,16 @@ bool interface_is_up(int fd, const std::string& name, boost::system::error_code&
   return (request.ifr_flags & IFF_UP) != 0;
 }
 
-bool is_would_block(const boost::system::error_code& ec) {
-  return ec == boost::asio::error::would_block || ec == boost::asio::error::try_again;
+// A larger receive queue, if the kernel allows; the link works with the default too.
+void enlarge_receive_buffer(asio_can::raw_protocol::socket& socket, const std::string& interface) {
+  boost::system::error_code ec;
+  socket.set_option(asio_can::option::receive_buffer_size_force(kReceiveBufferBytes), ec);
+  if (ec) socket.set_option(asio_can::option::receive_buffer_size(kReceiveBufferBytes), ec);
+  asio_can::option::receive_buffer_size effective;
+  boost::system::error_code get_ec;
+  socket.get_option(effective, get_ec);
+  spdlog::debug("CAN {}: receive buffer {} bytes{}", interface, get_ec ? -1 : effective.value(),
+                ec ? fmt::format(" (asked for {}: {})", kReceiveBufferBytes, ec.message()) : std::string());
 }
 
 bool means_interface_gone(const boost::system::error_code& ec) {
@@ -75,12 +84,15 @@ std::string_view to_string(BusState state) {
 
 CanLink::CanLink(boost::asio::io_context& io, std::string interface, std::chrono::milliseconds retry_interval,
                  std::chrono::milliseconds max_retry_interval)
-    : io_(io),
-      interface_(std::move(interface)),
+    : interface_(std::move(interface)),
       retry_interval_(retry_interval),
       max_retry_interval_(std::max(max_retry_interval, retry_interval)),
       retry_delay_(retry_interval),
       socket_(io),
+      reader_(socket_,
+              [this](std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
+                on_frames(frames, ec);
+              }),
       retry_timer_(io),
       link_events_(io) {}
 
@@ -169,6 +181,7 @@ bool CanLink::try_open() {
   if (ec) return fail(DownCause::open_failed, "cannot bind to the interface");
   socket_.non_blocking(true, ec);
   if (ec) return fail(DownCause::open_failed, "cannot make the socket non-blocking");
+  enlarge_receive_buffer(socket_, interface_);
 
   ++counters_.reopens;
   ++generation_;
@@ -178,8 +191,7 @@ bool CanLink::try_open() {
   down_cause_ = DownCause::none;
   failed_sends_in_row_ = 0;
   set_state(BusState::up);
-  // Frames may already be queued, and the reactor is edge-triggered: read before waiting.
-  boost::asio::post(io_, [this, generation = generation_] { drain(generation); });
+  reader_.start();  // frames queued already are read on the next turn
   return true;
 }
 
@@ -261,47 +273,27 @@ void CanLink::recheck_interface() {
   }
 }
 
-void CanLink::wait_readable() {
-  socket_.async_wait(asio_can::raw_protocol::socket::wait_read,
-                     [this, generation = generation_](const boost::system::error_code& ec) {
-                       if (ec == boost::asio::error::operation_aborted || generation != generation_) return;
-                       if (ec) {
-                         go_down(ec);
-                         return;
-                       }
-                       drain(generation);
-                     });
-}
-
-void CanLink::drain(std::uint64_t generation) {
-  if (generation != generation_ || !socket_.is_open()) return;
-  boost::system::error_code ec;
-  for (int handled = 0; handled < kDrainBudget; ++handled) {
-    auto received = asio_can::receive_frame(socket_, ec);
-    if (!received) {
-      if (is_would_block(ec)) {
-        wait_readable();
-      } else if (ec == boost::system::errc::message_size) {
-        spdlog::debug("CAN {}: short read ignored", interface_);
-        continue;
-      } else {
-        go_down(ec);
-      }
-      return;
+void CanLink::on_frames(std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
+  if (ec == boost::asio::error::operation_aborted || !socket_.is_open()) return;  // closed since
+  const std::uint64_t generation = generation_;
+  for (asio_can::ReceivedFrame received : frames) {
+    if (received.time.count() == 0) {
+      received.time = std::chrono::system_clock::now().time_since_epoch();
     }
-    if (received->time.count() == 0) {
-      received->time = std::chrono::system_clock::now().time_since_epoch();
-    }
-    if (received->frame.error) {
-      handle_error_frame(received->frame);
+    if (received.frame.error) {
+      handle_error_frame(received.frame);
     } else {
       ++counters_.frames_received;
-      if (frame_handler_) frame_handler_(*received);
+      if (frame_handler_) frame_handler_(received);
     }
     // A handler may have stopped or restarted the link.
     if (generation != generation_) return;
   }
-  boost::asio::post(io_, [this, generation] { drain(generation); });
+  if (ec) {
+    go_down(ec);
+    return;
+  }
+  reader_.start();
 }
 
 void CanLink::handle_error_frame(const CanFrame& frame) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -10,6 +11,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include "wheeltec/asio_can/frame_io.hpp"
+#include "wheeltec/asio_can/frame_reader.hpp"
 #include "wheeltec/asio_can/raw_protocol.hpp"
 #include "wheeltec/can_frame.hpp"
 #include "wheeltec/link_event.hpp"
@@ -70,18 +72,17 @@ class CanLink {
   void retry_now();
   void on_link_event(const LinkEvent& event);
   void recheck_interface();
-  void wait_readable();
-  void drain(std::uint64_t generation);
+  void on_frames(std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec);
   void handle_error_frame(const CanFrame& frame);
   void note_down_cause(DownCause cause, const char* what, const boost::system::error_code& ec);
   void set_state(BusState state);
 
-  boost::asio::io_context& io_;
   std::string interface_;
   std::chrono::milliseconds retry_interval_;
   std::chrono::milliseconds max_retry_interval_;
   std::chrono::milliseconds retry_delay_;  // the next retry's delay; doubles up to max_retry_interval_
   asio_can::raw_protocol::socket socket_;
+  asio_can::frame_reader reader_;  // after socket_: destroyed before it
   boost::asio::steady_timer retry_timer_;
   LinkEventMonitor link_events_;
   int ifindex_ = 0;  // of the interface the socket is bound to; a re-created one gets a new index

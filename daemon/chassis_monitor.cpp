@@ -25,17 +25,29 @@ void ChassisMonitor::accept(const AssembledRecord& assembled) {
   latest_ = sample;
   latest_steady_ = std::chrono::steady_clock::now();
 
-  arm_offline_timer(*latest_steady_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout_));
+  // The timer is not moved on each record (a cancel and a re-arm cost the event loop system
+  // calls and an extra turn at telemetry rate); when it fires it re-arms for what is left.
+  if (!offline_timer_armed_) arm_offline_timer(offline_deadline());
   set_online(true);
   if (sample_handler_) sample_handler_(*latest_);
 }
 
+std::chrono::steady_clock::time_point ChassisMonitor::offline_deadline() const {
+  return *latest_steady_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout_);
+}
+
 void ChassisMonitor::arm_offline_timer(std::chrono::steady_clock::time_point expiry) {
+  offline_timer_armed_ = true;
   offline_timer_.expires_at(expiry);
   offline_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec == boost::asio::error::operation_aborted) return;
-    // A completion already queued when a newer record re-armed the timer is stale.
-    if (std::chrono::steady_clock::now() < offline_timer_.expiry()) return;
+    offline_timer_armed_ = false;
+    // Records came since the timer was armed: wait for what is left of the newest one's timeout.
+    const auto deadline = offline_deadline();
+    if (std::chrono::steady_clock::now() < deadline) {
+      arm_offline_timer(deadline);
+      return;
+    }
     set_online(false);
   });
 }
@@ -60,9 +72,7 @@ void ChassisMonitor::reset_odometry() {
 
 void ChassisMonitor::set_timeout(std::chrono::nanoseconds timeout) {
   timeout_ = timeout;
-  if (online_ && latest_steady_) {
-    arm_offline_timer(*latest_steady_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(timeout_));
-  }
+  if (online_ && latest_steady_) arm_offline_timer(offline_deadline());
 }
 
 std::optional<double> ChassisMonitor::telemetry_age_s() const {

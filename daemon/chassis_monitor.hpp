@@ -45,6 +45,7 @@ class ChassisMonitor {
 
  private:
   void accept(const AssembledRecord& assembled);
+  std::chrono::steady_clock::time_point offline_deadline() const;  // latest record + timeout
   void arm_offline_timer(std::chrono::steady_clock::time_point expiry);
   void set_online(bool online);
 
@@ -57,6 +58,7 @@ class ChassisMonitor {
   std::optional<std::chrono::steady_clock::time_point> latest_steady_;
   std::uint64_t seq_ = 0;
   bool online_ = false;
+  bool offline_timer_armed_ = false;  // a wait of offline_timer_ is under way
   SampleHandler sample_handler_;
   OnlineHandler online_handler_;
 };

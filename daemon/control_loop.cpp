@@ -34,7 +34,9 @@ ControlLoop::ControlLoop(boost::asio::io_context& io, CanLink& link, const Gatew
       arbiter_(seconds_to_nanos(config.control.command_timeout_s)),
       period_timer_(io),
       enable_timer_(io),
-      deadman_timer_(io) {}
+      deadman_timer_(io) {
+  period_timer_.on_tick([this] { on_period(); });
+}
 
 Nanos ControlLoop::now() const { return std::chrono::duration_cast<Nanos>(Clock::now().time_since_epoch()); }
 
@@ -143,7 +145,7 @@ void ControlLoop::disable() {
   update_command();
   send_control();
   send_enable(false);
-  period_timer_.cancel();
+  period_timer_.stop();
   enable_timer_.cancel();
   enabled_ = false;
   if (was_enabled) spdlog::info("control disabled");
@@ -176,7 +178,7 @@ void ControlLoop::link_came_up() {
 }
 
 void ControlLoop::shutdown() {
-  period_timer_.cancel();
+  period_timer_.stop();
   enable_timer_.cancel();
   cancel_deadman();
   arbiter_.stop();
@@ -202,25 +204,14 @@ void ControlLoop::apply(const GatewayConfig& config) {
   notify_if_changed(enabled_, previous_owner, previous);
 }
 
-void ControlLoop::start_periodic() {
-  period_ = seconds_to_duration(1.0 / config_.control.rate_hz);
-  next_period_ = Clock::now() + period_;
-  arm_period_timer();
-}
+void ControlLoop::start_periodic() { period_timer_.start(seconds_to_duration(1.0 / config_.control.rate_hz)); }
 
-void ControlLoop::arm_period_timer() {
-  period_timer_.expires_at(next_period_);
-  period_timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (ec == boost::asio::error::operation_aborted || !enabled_ || shut_down_) return;
-    // When the loop runs late, this wait and the deadman's can complete in the same turn,
-    // this one first: a lapsed target must not go out in a periodic frame.
-    if (!release_if_lapsed()) send_control();
-    // Absolute deadlines, so the rate does not drift; after a stall, resynchronise.
-    const auto current = Clock::now();
-    next_period_ += period_;
-    if (next_period_ <= current) next_period_ = current + period_;
-    arm_period_timer();
-  });
+void ControlLoop::on_period() {
+  if (!enabled_ || shut_down_) return;
+  // When the loop runs late, this tick and the deadman's wait can complete in the same turn,
+  // this one first: a lapsed target must not go out in a periodic frame. Without an owner
+  // there is no deadline, and no need to read the clock.
+  if (!arbiter_.deadline() || !release_if_lapsed()) send_control();
 }
 
 void ControlLoop::start_enable_refresh() {

@@ -12,6 +12,7 @@
 #include "wheeltec/control_frame.hpp"
 
 #include "can_link.hpp"
+#include "periodic_timer.hpp"
 
 namespace wheeltec::daemon {
 
@@ -68,7 +69,7 @@ class ControlLoop {
   void send_control();
   void send_enable(bool enable);
   void start_periodic();
-  void arm_period_timer();
+  void on_period();
   void start_enable_refresh();
   void arm_enable_timer();
   void arm_deadman();
@@ -87,11 +88,9 @@ class ControlLoop {
   bool started_ = false;
   bool shut_down_ = false;
   bool zero_pending_ = true;      // the start-up zero frame has not reached the kernel yet
-  Clock::duration period_{};
-  Clock::time_point next_period_{};
   Clock::duration enable_refresh_{};
   Clock::time_point next_enable_{};
-  boost::asio::steady_timer period_timer_;
+  PeriodicTimer period_timer_;
   boost::asio::steady_timer enable_timer_;
   boost::asio::steady_timer deadman_timer_;
   bool deadman_waiting_ = false;  // a wait of deadman_timer_ is under way

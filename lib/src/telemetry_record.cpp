@@ -1,5 +1,6 @@
 #include "wheeltec/telemetry_record.hpp"
 
+#include <bit>
 #include <cstring>
 
 namespace wheeltec {
@@ -39,10 +40,34 @@ std::uint8_t block_check(const std::uint8_t* bytes, std::size_t n) {
   return sum;
 }
 
+namespace {
+
+// True if the XOR of bytes 0..21 equals byte 22, i.e. bytes 0..22 XOR to zero: three word
+// loads, the third with the tail masked off, folded to one byte. Bytes 0..7 of a word are
+// its low to high bytes on a little-endian host; elsewhere the plain byte sum is used.
+bool checksum_matches(const RecordBytes& bytes) {
+  if constexpr (std::endian::native == std::endian::little) {
+    // Word by word: the reassembler stores the record as three 8-byte frames, and a wider
+    // load spanning two of them would stall on store forwarding.
+    std::uint64_t words[3];
+    static_assert(sizeof(words) == kRecordSize);
+    for (std::size_t i = 0; i < 3; ++i) std::memcpy(&words[i], bytes.data() + 8 * i, sizeof(words[i]));
+    std::uint64_t lanes = words[0] ^ words[1] ^ (words[2] & 0x00FF'FFFF'FFFF'FFFFull);
+    lanes ^= lanes >> 32;
+    lanes ^= lanes >> 16;
+    lanes ^= lanes >> 8;
+    return static_cast<std::uint8_t>(lanes) == 0;
+  } else {
+    return bytes[kChecksumIndex] == block_check(bytes.data(), kChecksumIndex);
+  }
+}
+
+}  // namespace
+
 RecordFault check_record(const RecordBytes& bytes) {
   if (bytes[0] != kRecordHeader) return RecordFault::bad_header;
   if (bytes[kTailIndex] != kRecordTail) return RecordFault::bad_tail;
-  if (bytes[kChecksumIndex] != block_check(bytes.data(), kChecksumIndex)) return RecordFault::bad_checksum;
+  if (!checksum_matches(bytes)) return RecordFault::bad_checksum;
   return RecordFault::none;
 }
 

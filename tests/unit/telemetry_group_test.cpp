@@ -104,7 +104,9 @@ TEST(TelemetryGroupTest, EveryCorruptedGroupFailsTheRecordCheckAtAnyRate) {
       ASSERT_NE(check_record(received), RecordFault::none) << "rate " << rate;
     }
     EXPECT_EQ(static_cast<std::uint64_t>(corrupted_groups), faults.counters().corrupted);
-    if (rate >= 0.3) EXPECT_GT(corrupted_groups, 1000) << "rate " << rate;
+    if (rate >= 0.3) {
+      EXPECT_GT(corrupted_groups, 1000) << "rate " << rate;
+    }
   }
 }
 

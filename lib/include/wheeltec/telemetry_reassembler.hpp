@@ -68,7 +68,11 @@ class TelemetryReassembler {
   const ReassemblyCounters& counters() const { return counters_; }
 
  private:
-  enum class Stage { idle, have_first, have_second, resync };
+  // The first three are also the slot of the frame due next.
+  enum class Stage { idle = 0, have_first = 1, have_second = 2, resync = 3 };
+
+  std::optional<AssembledRecord> feed_out_of_course(const CanFrame& frame, Nanos time);
+
   Nanos max_gap_;
   Stage stage_ = Stage::idle;
   Nanos last_time_{};

@@ -49,9 +49,10 @@ struct ReceivedFrame {
   std::chrono::nanoseconds time{};  // kernel receive time (CLOCK_REALTIME); 0 without SO_TIMESTAMPNS
 };
 
-// Reads one frame without blocking. Empty with ec = would_block when none is queued;
-// empty with another ec (e.g. network_down, no_such_device) on a socket error.
-inline std::optional<ReceivedFrame> receive_frame(raw_protocol::socket& socket, boost::system::error_code& ec) {
+// Reads one frame without blocking from the raw CAN socket `fd`. Empty with ec = would_block
+// when none is queued; empty with another ec (e.g. network_down, no_such_device) on a
+// socket error, or message_size for a short read.
+inline std::optional<ReceivedFrame> receive_frame(int fd, boost::system::error_code& ec) {
   can_frame raw;
   iovec iov{&raw, sizeof(raw)};
   alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec))];
@@ -61,7 +62,7 @@ inline std::optional<ReceivedFrame> receive_frame(raw_protocol::socket& socket, 
   msg.msg_iovlen = 1;
   msg.msg_control = control;
   msg.msg_controllen = sizeof(control);
-  const ssize_t n = ::recvmsg(socket.native_handle(), &msg, MSG_DONTWAIT);
+  const ssize_t n = ::recvmsg(fd, &msg, MSG_DONTWAIT);
   if (n < 0) {
     ec.assign(errno, boost::system::system_category());
     return std::nullopt;
@@ -81,6 +82,10 @@ inline std::optional<ReceivedFrame> receive_frame(raw_protocol::socket& socket, 
     }
   }
   return out;
+}
+
+inline std::optional<ReceivedFrame> receive_frame(raw_protocol::socket& socket, boost::system::error_code& ec) {
+  return receive_frame(socket.native_handle(), ec);
 }
 
 // Writes one frame without blocking. Returns false with ec set (would_block, no_buffer_space,

@@ -108,6 +108,8 @@ using timestamp_ns = boost::asio::detail::socket_option::boolean<SOL_SOCKET, SO_
 // Kernel socket buffers.
 using receive_buffer_size = boost::asio::detail::socket_option::integer<SOL_SOCKET, SO_RCVBUF>;
 using send_buffer_size = boost::asio::detail::socket_option::integer<SOL_SOCKET, SO_SNDBUF>;
+// SO_RCVBUF beyond net.core.rmem_max; needs CAP_NET_ADMIN (EPERM otherwise). Set only.
+using receive_buffer_size_force = boost::asio::detail::socket_option::integer<SOL_SOCKET, SO_RCVBUFFORCE>;
 
 }  // namespace option
 
