@@ -4,10 +4,13 @@
 #
 #   scripts/soak.sh [--build-dir DIR] [--duration SECONDS (60)] [--link-period SECONDS (4)]
 #                   [--max-stall-periods N (2)] [--keep]
+#                   [--daemon-scheduling unit|default|nice:N|rr:N|fifo:N (unit)]
+#                   [--observer-scheduling nice:N|rr:N|fifo:N]
 #
 # The emulator sends telemetry at 200 Hz with --drop, --corrupt and --reorder, the link
 # goes down and up every --link-period seconds, and 16 clients subscribe, drive, stall
-# and reconnect. Exits non-zero when any check fails (see tests/soak/soak_driver.cpp).
+# and reconnect; the daemon is scheduled as systemd/wheeltecd.service schedules it.
+# Exits non-zero when any check fails (see tests/soak/soak_driver.cpp).
 set -euo pipefail
 
 REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -16,9 +19,9 @@ driver_args=()
 while (($#)); do
   case $1 in
     --build-dir) build_dir=$2; shift 2 ;;
-    --duration|--link-period|--max-stall-periods) driver_args+=("$1" "$2"); shift 2 ;;
+    --duration|--link-period|--max-stall-periods|--daemon-scheduling|--observer-scheduling) driver_args+=("$1" "$2"); shift 2 ;;
     --keep) driver_args+=("$1"); shift ;;
-    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "soak.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done

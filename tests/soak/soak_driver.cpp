@@ -13,7 +13,12 @@
 //    no older than command_timeout_s plus one period, with no stop or owner disconnect
 //    in between.
 //
-//   soak_driver [--duration SECONDS (60)] [--link-period SECONDS (4)] [--max-stall-periods N (2)] [--keep]
+//   soak_driver [--duration SECONDS (60)] [--link-period SECONDS (4)] [--max-stall-periods N (2)]
+//               [--daemon-scheduling unit|default|nice:N|rr:N|fifo:N] [--observer-scheduling nice:N|rr:N|fifo:N]
+//               [--keep]
+//
+// The daemon is scheduled as systemd/wheeltecd.service schedules it (--daemon-scheduling
+// unit), so that what is soaked is what ships; `default` leaves it at nice 0.
 
 #include <fcntl.h>
 #include <net/if.h>
@@ -46,6 +51,7 @@
 #include "can_bus.hpp"
 #include "control_frames.hpp"
 #include "gateway.hpp"
+#include "process_scheduling.hpp"
 #include "test_environment.hpp"
 
 namespace integration {
@@ -60,9 +66,12 @@ constexpr double kBatteryV = 22.5;
 // Clock and scheduling slack between the driver's threads and the kernel's frame stamps.
 constexpr double kSlackS = 0.03;
 constexpr int kDrivers = 2;
-// The emulator's telemetry period (200 Hz): a longer silence of it means the machine
-// itself (User-Mode Linux, as scheduled by the host) stalled for the difference.
-constexpr double kEmulatorPeriodS = 0.005;
+// The reference timer: a thread of the soak one step ahead of the daemon's priority that
+// puts a frame of its own on the bus every control period. When it was late too, the
+// machine did not run programs of the daemon's priority for that long (a busy daemon cannot
+// hold back a thread ahead of it, as it can the emulator, which runs at nice 0).
+constexpr std::uint32_t kReferenceId = 0x7f0;
+constexpr auto kReferencePeriod = std::chrono::milliseconds(50);
 
 struct Settings {
   double duration_s = 60;
@@ -70,6 +79,11 @@ struct Settings {
   // A gap between control frames longer than this many periods, while the link is up and
   // the machine running, fails the soak.
   double max_stall_periods = 2;
+  // Given to the daemon (every thread) once started, as the unit's Nice= or
+  // CPUSchedulingPolicy= would; and to the thread that watches the bus.
+  std::string daemon_scheduling_source = "unit";  // unit, default or a Scheduling::parse() text
+  std::optional<Scheduling> daemon_scheduling;
+  std::optional<Scheduling> observer_scheduling;
   bool keep = false;
 };
 
@@ -176,6 +190,7 @@ class Soak {
   }
 
   void watch_bus();
+  void reference_timer();
   void toggle_link();
   void driver(int index);
   void subscriber(int index);
@@ -186,7 +201,8 @@ class Soak {
   void check_frames();
   long daemon_rss_kib();
   double daemon_cpu_s();
-  double widest_telemetry_gap(WallClock::time_point from, WallClock::time_point to) const;
+  static double widest_silence(const std::vector<WallClock::time_point>& times, WallClock::time_point from,
+                               WallClock::time_point to);
 
   Settings settings_;
   Gateway gateway_;
@@ -197,7 +213,8 @@ class Soak {
   std::size_t failure_count_ = 0;
   std::vector<ControlEvent> events_;
   std::vector<ControlObservation> control_frames_;
-  std::vector<WallClock::time_point> telemetry_times_;  // 0x101 frames: is the machine itself running?
+  std::vector<WallClock::time_point> telemetry_times_;  // 0x101 frames, for the log
+  std::vector<WallClock::time_point> reference_times_;  // the reference timer's frames
   std::vector<LinkWindow> windows_;
   std::atomic<std::uint64_t> records_checked_{0};
   std::atomic<std::uint64_t> drives_accepted_{0};
@@ -205,6 +222,11 @@ class Soak {
 };
 
 void Soak::watch_bus() {
+  try {
+    if (settings_.observer_scheduling) apply_to_this_thread(*settings_.observer_scheduling);
+  } catch (const std::exception& error) {
+    fail(std::string("observer: ") + error.what());
+  }
   CanBus bus(test_interface());
   const SchedstatReader daemon_schedule(gateway_.daemon().pid());
   while (running()) {
@@ -217,11 +239,38 @@ void Soak::watch_bus() {
       } else if (frame && frame->frame.id == 0x101 && !frame->frame.extended) {
         std::lock_guard lock(mutex_);
         telemetry_times_.push_back(frame->time);
+      } else if (frame && frame->frame.id == kReferenceId && !frame->frame.extended) {
+        std::lock_guard lock(mutex_);
+        reference_times_.push_back(frame->time);
       }
     } catch (const std::exception&) {
       // ENETDOWN is reported once when the link goes down; the socket works again when it is up.
       std::this_thread::sleep_for(5ms);
     }
+  }
+}
+
+// Sends a frame at every tick of a 50 ms schedule (missed ticks skipped), so that a late
+// frame is as late as this thread was in being run.
+void Soak::reference_timer() {
+  try {
+    apply_to_this_thread(one_step_ahead(settings_.daemon_scheduling.value_or(Scheduling{})));
+  } catch (const std::exception& error) {
+    fail(std::string("reference timer: ") + error.what());
+  }
+  CanBus bus(test_interface());
+  wheeltec::CanFrame frame;
+  frame.id = kReferenceId;
+  auto next = SteadyClock::now();
+  while (running()) {
+    next += kReferencePeriod;
+    std::this_thread::sleep_until(next);
+    try {
+      bus.send(frame);
+    } catch (const std::exception&) {
+      // the link is down
+    }
+    while (next + kReferencePeriod < SteadyClock::now()) next += kReferencePeriod;
   }
 }
 
@@ -387,6 +436,7 @@ void Soak::check_frames() {
   double widest_reopen = 0;
   int machine_stalls = 0;
   int daemon_gaps = 0;  // over two periods with the machine running
+  double widest_reference_gap = 0;
   for (const auto& window : windows_) {
     if (seconds_between(window.up, window.down) < 1.0) continue;  // the end of the run fell just after a link-up
     std::vector<const ControlObservation*> frames;
@@ -399,6 +449,18 @@ void Soak::check_frames() {
       continue;
     }
     widest_reopen = std::max(widest_reopen, seconds_between(window.up, frames.front()->frame.time));
+    // A reference timer that had stopped would excuse every gap: it must have kept its
+    // schedule through the window (less its first and last periods).
+    const auto reference_frames = std::count_if(reference_times_.begin(), reference_times_.end(), [&](auto time) {
+      return time >= window.up && time < window.down;
+    });
+    const double expected = seconds_between(window.up, window.down) / kPeriodS - 2;
+    if (static_cast<double>(reference_frames) < 0.8 * expected) {
+      fail("the reference timer sent " + std::to_string(reference_frames) + " frames in a link-up window of " +
+           std::to_string(seconds_between(window.up, window.down)) + " s");
+    }
+    widest_reference_gap = std::max(widest_reference_gap, widest_silence(reference_times_, frames.front()->frame.time,
+                                                                     frames.back()->frame.time));
     for (std::size_t i = 1; i < frames.size(); ++i) {
       const auto& before = *frames[i - 1];
       const auto& after = *frames[i];
@@ -407,11 +469,14 @@ void Soak::check_frames() {
         widest_gap = std::max(widest_gap, gap);
         continue;
       }
-      // Was the emulator, another process, sending its 200 Hz telemetry meanwhile? For as
-      // long as it was silent beyond its period, the whole (virtual) machine was not running:
-      // that much of the gap is not the daemon's.
-      const double machine_gap = widest_telemetry_gap(before.frame.time, after.frame.time);
-      const double machine_stall = std::max(0.0, machine_gap - kEmulatorPeriodS);
+      // For as long as the reference timer, ahead of the daemon's priority, was late beyond
+      // its period, the (virtual) machine did not run the daemon's priority: that much of the
+      // gap is not the daemon's. The emulator's silence (its 200 Hz telemetry) is logged
+      // too: the daemon outranks it, so a busy daemon could be what silenced it.
+      const double emulator_gap = widest_silence(telemetry_times_, before.frame.time, after.frame.time);
+      const double reference_gap = widest_silence(reference_times_, before.frame.time, after.frame.time);
+      const double machine_stall =
+          std::max(0.0, reference_gap - std::chrono::duration<double>(kReferencePeriod).count());
       // For the log only: how long the daemon was runnable but off the CPU, and on it. The
       // observer reads these when it gets to run (not at the frames' times), and User-Mode
       // Linux counts them in 10 ms ticks, so they explain a gap but cannot judge it.
@@ -422,7 +487,8 @@ void Soak::check_frames() {
         on_cpu = after.daemon->on_cpu_s - before.daemon->on_cpu_s;
       }
       std::cout << "soak: control gap of " << gap * 1000 << " ms, " << seconds_between(window.up, before.frame.time)
-                << " s into a link-up window; widest telemetry gap in it " << machine_gap * 1000
+                << " s into a link-up window; widest telemetry gap in it " << emulator_gap * 1000
+                << " ms, reference timer gap " << reference_gap * 1000
                 << " ms; daemon waiting for the CPU " << waiting * 1000 << " ms, on it " << on_cpu * 1000 << " ms\n";
       if (gap - machine_stall <= 2 * kPeriodS) {
         ++machine_stalls;
@@ -433,9 +499,12 @@ void Soak::check_frames() {
     }
   }
   std::cout << "soak: widest gap between control frames while up: " << widest_gap * 1000 << " ms\n"
+            << "soak: widest gap of the reference timer (every " << kReferencePeriod.count() << " ms, "
+            << one_step_ahead(settings_.daemon_scheduling.value_or(Scheduling{})).describe()
+            << ") while up: " << widest_reference_gap * 1000 << " ms\n"
             << "soak: slowest reopen after link up: " << widest_reopen * 1000 << " ms\n"
-            << "soak: control gaps over two periods, but not once the emulator's silence in them is taken off "
-               "(machine stalls, not counted): "
+            << "soak: control gaps over two periods, but not once the reference timer's lateness in them is "
+               "taken off (machine stalls, not counted): "
             << machine_stalls << "\n"
             << "soak: control gaps over two periods with the machine running: " << daemon_gaps << " (the bound is "
             << settings_.max_stall_periods << " periods, " << settings_.max_stall_periods * kPeriodS * 1000 << " ms)\n";
@@ -482,10 +551,11 @@ void Soak::check_frames() {
   std::cout << "soak: control frames " << control_frames_.size() << ", non-zero " << non_zero << "\n";
 }
 
-double Soak::widest_telemetry_gap(WallClock::time_point from, WallClock::time_point to) const {
+double Soak::widest_silence(const std::vector<WallClock::time_point>& times, WallClock::time_point from,
+                            WallClock::time_point to) {
   double widest = 0;
   WallClock::time_point previous = from;
-  for (const auto time : telemetry_times_) {
+  for (const auto time : times) {
     if (time <= from) continue;
     if (time >= to) break;
     widest = std::max(widest, seconds_between(previous, time));
@@ -520,10 +590,12 @@ long Soak::daemon_rss_kib() {
 
 int Soak::run() {
   gateway_.start();
+  if (settings_.daemon_scheduling) apply_to_process(*settings_.daemon_scheduling, gateway_.daemon().pid());
   gateway_.wait_online(5s);
   std::vector<std::thread> threads;
-  threads.reserve(2 + kDrivers + 14);
+  threads.reserve(3 + kDrivers + 14);
   threads.emplace_back([this] { watch_bus(); });
+  threads.emplace_back([this] { reference_timer(); });
   threads.emplace_back([this] { toggle_link(); });
   // 16 clients: 2 drivers, 8 subscribers, 3 stallers, 3 pollers.
   for (int i = 0; i < kDrivers; ++i) {
@@ -577,6 +649,12 @@ int Soak::run() {
 
   std::cout << "soak: " << settings_.duration_s << " s, link down/up every " << settings_.link_period_s << " s ("
             << windows_.size() - 1 << " times)\n"
+            << "soak: daemon scheduling "
+            << (settings_.daemon_scheduling ? settings_.daemon_scheduling->describe() : std::string("default")) << " ("
+            << (settings_.daemon_scheduling_source == "unit" ? "as wheeltecd.service" : "--daemon-scheduling") << ")"
+            << ", observer scheduling "
+            << (settings_.observer_scheduling ? settings_.observer_scheduling->describe() : std::string("default"))
+            << "\n"
             << "soak: records checked " << records_checked_ << ", drives accepted " << drives_accepted_
             << ", client reconnects " << reconnects_ << "\n"
             << "soak: daemon RSS " << rss_start << " KiB after " << warm_up_s << " s warm-up, " << rss_end
@@ -622,12 +700,37 @@ int main(int argc, char** argv) {
       (argument == "--duration"      ? settings.duration_s
        : argument == "--link-period" ? settings.link_period_s
                                      : settings.max_stall_periods) = value;
+    } else if ((argument == "--daemon-scheduling" || argument == "--observer-scheduling") && i + 1 < argc) {
+      const std::string value = argv[++i];
+      try {
+        if (argument == "--observer-scheduling") {
+          settings.observer_scheduling = integration::Scheduling::parse(value);
+        } else if (value != "unit" && value != "default") {
+          integration::Scheduling::parse(value);
+        }
+      } catch (const std::invalid_argument& error) {
+        std::cerr << "soak_driver: " << argument << ": " << error.what() << "\n";
+        return 2;
+      }
+      if (argument == "--daemon-scheduling") settings.daemon_scheduling_source = value;
     } else if (argument == "--keep") {
       settings.keep = true;
     } else {
-      std::cerr << "usage: soak_driver [--duration SECONDS] [--link-period SECONDS] [--max-stall-periods N] [--keep]\n";
+      std::cerr << "usage: soak_driver [--duration SECONDS] [--link-period SECONDS] [--max-stall-periods N]\n"
+                   "                   [--daemon-scheduling unit|default|nice:N|rr:N|fifo:N]\n"
+                   "                   [--observer-scheduling nice:N|rr:N|fifo:N] [--keep]\n";
       return 2;
     }
+  }
+  try {
+    settings.daemon_scheduling = settings.daemon_scheduling_source == "unit"
+                                     ? integration::scheduling_of_unit(WHEELTECD_UNIT_PATH)
+                                 : settings.daemon_scheduling_source == "default"
+                                     ? std::nullopt
+                                     : std::optional(integration::Scheduling::parse(settings.daemon_scheduling_source));
+  } catch (const std::exception& error) {
+    std::cerr << "soak_driver: " << error.what() << "\n";
+    return 2;
   }
   if (::geteuid() != 0) {
     std::cerr << "soak_driver: needs root to take " << integration::test_interface() << " down and up\n";
