@@ -4,7 +4,6 @@
 #include <utility>
 
 #include <boost/asio/post.hpp>
-#include <boost/asio/write.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -208,7 +207,7 @@ bool ClientSession::enqueue(SharedText text, bool telemetry) {
 // WriteMode::at_once (responses): what the socket takes is written here, without a
 // completion handler, so a request costs one send and no extra turn of the event loop (a
 // turn with a completion pending costs an epoll_wait of its own). Only a remainder the
-// socket did not take waits for it with an async_write.
+// socket did not take waits for it with an asynchronous write.
 // WriteMode::wait_for_completion (telemetry): the write's completion runs after the handler
 // that published the record, so the records that the same CAN drain completes meanwhile
 // queue up and go out together in the next write (one write per drain, not per record,
@@ -232,7 +231,10 @@ void ClientSession::start_write(WriteMode mode) {
   }
   gather_write_buffers();
   in_flight_ = write_buffers_.size();
-  boost::asio::async_write(socket_, write_buffers_,
+  // async_write_some, not async_write: async_write hands the socket at most 16 buffers per
+  // send, so a backlog of 64 notifications took four sends. on_write() takes a partial
+  // write as it comes and writes the rest.
+  socket_.async_write_some(write_buffers_,
                            [self = shared_from_this()](const boost::system::error_code& error, std::size_t bytes) {
                              self->on_write(error, bytes);
                            });

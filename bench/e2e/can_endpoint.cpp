@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
@@ -60,44 +61,30 @@ void CanEndpoint::send(const wheeltec::CanFrame& frame) {
   throw std::runtime_error("CAN write: the transmit queue stayed full for 1 s");
 }
 
-std::optional<wheeltec::CanFrame> CanEndpoint::receive(int timeout_ms) {
+std::optional<wheeltec::asio_can::ReceivedFrame> CanEndpoint::receive_within(int timeout_ms) {
   pollfd ready{fd_, POLLIN, 0};
   if (::poll(&ready, 1, timeout_ms) <= 0) return std::nullopt;
-  can_frame raw{};
-  if (::read(fd_, &raw, sizeof(raw)) != static_cast<ssize_t>(sizeof(raw))) return std::nullopt;
-  wheeltec::CanFrame frame;
-  frame.id = raw.can_id & CAN_SFF_MASK;
-  frame.dlc = raw.can_dlc;
-  std::memcpy(frame.data.data(), raw.data, 8);
-  return frame;
+  boost::system::error_code error;
+  return wheeltec::asio_can::receive_frame(fd_, error);
+}
+
+std::optional<wheeltec::CanFrame> CanEndpoint::receive(int timeout_ms) {
+  auto received = receive_within(timeout_ms);
+  if (!received) return std::nullopt;
+  return received->frame;
 }
 
 std::optional<CanEndpoint::Stamped> CanEndpoint::receive_stamped(int timeout_ms) {
-  pollfd ready{fd_, POLLIN, 0};
-  if (::poll(&ready, 1, timeout_ms) <= 0) return std::nullopt;
-  can_frame raw{};
-  iovec data{&raw, sizeof(raw)};
-  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec))];
-  msghdr message{};
-  message.msg_iov = &data;
-  message.msg_iovlen = 1;
-  message.msg_control = control;
-  message.msg_controllen = sizeof(control);
-  if (::recvmsg(fd_, &message, 0) != static_cast<ssize_t>(sizeof(raw))) return std::nullopt;
-  timespec kernel{};
-  for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
-    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_TIMESTAMPNS) std::memcpy(&kernel, CMSG_DATA(c), sizeof(kernel));
-  }
+  auto received = receive_within(timeout_ms);
+  if (!received) return std::nullopt;
   // The stamp is CLOCK_REALTIME; now_us() is CLOCK_MONOTONIC.
   timespec real{};
   ::clock_gettime(CLOCK_REALTIME, &real);
   const double monotonic_now = now_us();
   const double real_now = static_cast<double>(real.tv_sec) * 1e6 + static_cast<double>(real.tv_nsec) / 1e3;
-  const double kernel_real = static_cast<double>(kernel.tv_sec) * 1e6 + static_cast<double>(kernel.tv_nsec) / 1e3;
+  const double kernel_real = std::chrono::duration<double, std::micro>(received->time).count();
   Stamped stamped;
-  stamped.frame.id = raw.can_id & CAN_SFF_MASK;
-  stamped.frame.dlc = raw.can_dlc;
-  std::memcpy(stamped.frame.data.data(), raw.data, 8);
+  stamped.frame = received->frame;
   stamped.kernel_us = monotonic_now - (real_now - kernel_real);
   return stamped;
 }

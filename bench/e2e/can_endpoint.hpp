@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "wheeltec/asio_can/frame_io.hpp"
 #include "wheeltec/can_frame.hpp"
 
 namespace bench {
@@ -33,6 +34,8 @@ class CanEndpoint {
   int fd() const { return fd_; }
 
  private:
+  std::optional<wheeltec::asio_can::ReceivedFrame> receive_within(int timeout_ms);
+
   int fd_ = -1;
 };
 

@@ -47,8 +47,8 @@ bool ChildProgram::running() {
   return true;
 }
 
-void ChildProgram::wait_for_socket(const std::filesystem::path& path) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+void ChildProgram::wait_for_socket(const std::filesystem::path& path, int timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
   for (;;) {
     if (!running()) throw std::runtime_error(name_ + " ended at start-up:\n" + log_tail());
     const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);

@@ -19,8 +19,8 @@ class ChildProgram {
 
   pid_t pid() const { return pid_; }
   bool running();
-  // Waits (up to 5 s) until a Unix stream socket at `path` accepts connections.
-  void wait_for_socket(const std::filesystem::path& path);
+  // Waits (up to timeout_s) until a Unix stream socket at `path` accepts connections.
+  void wait_for_socket(const std::filesystem::path& path, int timeout_s = 5);
   void terminate();
   std::string log_tail() const;
 

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -31,6 +32,7 @@
 #include "can_endpoint.hpp"
 #include "child_program.hpp"
 #include "latency_stats.hpp"
+#include "process_profile.hpp"
 #include "subscriber_set.hpp"
 
 namespace {
@@ -43,6 +45,9 @@ struct Settings {
   std::string wheeltecd;
   std::string floor;
   std::string cangen;
+  std::string strace;             // given: system calls counted at idle and per drive
+  std::string valgrind;           // given with callgrind_control: user-space instructions counted at idle
+  std::string callgrind_control;
   std::string interface = "vcan0";
   std::string json_path;
   int commands = 2000;
@@ -67,6 +72,7 @@ Settings parse_arguments(int argc, char** argv) {
     if (key == "--help") {
       std::cout << "usage: wheeltec-bench-e2e --wheeltecd PATH --floor PATH [--cangen PATH] [--interface vcan0]\n"
                    "       [--json OUT] [--commands N] [--idle-seconds S] [--flood-seconds S]\n"
+                   "       [--strace PATH] [--valgrind PATH --callgrind-control PATH]\n"
                    "       [--idle-only | --throughput-only | --commands-only]\n";
       std::exit(0);
     }
@@ -75,6 +81,9 @@ Settings parse_arguments(int argc, char** argv) {
     if (key == "--wheeltecd") s.wheeltecd = value;
     else if (key == "--floor") s.floor = value;
     else if (key == "--cangen") s.cangen = value;
+    else if (key == "--strace") s.strace = value;
+    else if (key == "--valgrind") s.valgrind = value;
+    else if (key == "--callgrind-control") s.callgrind_control = value;
     else if (key == "--interface") s.interface = value;
     else if (key == "--json") s.json_path = value;
     else if (key == "--commands") s.commands = std::stoi(value);
@@ -288,22 +297,45 @@ json stats_of(const fs::path& socket) {
   return json::parse(client.read_line(2000)).at("result");
 }
 
-// Raises the telemetry rate to 64 subscribers of the daemon until some notification is lost; returns
-// the last run without loss (rate 0 if even the first lost some).
+// The same while the subscribers keep being read (what they receive here is late and not
+// counted): the relay floor, blocked writing to a full subscriber socket, answers only then.
+json stats_while_draining(const fs::path& socket, SubscriberSet& set) {
+  LineClient client(socket);
+  client.send_line(R"({"jsonrpc":"2.0","id":1,"method":"stats"})");
+  std::vector<std::size_t> late(set.size(), 0);
+  const double give_up = now_us() + 10e6;
+  bool ready = false;
+  while (!ready && now_us() < give_up) ready = set.poll_with(client.fd(), 50, late);
+  set.forget_extra();
+  if (!ready) throw std::runtime_error("no reply to stats within 10 s");
+  return json::parse(client.read_line(2000)).at("result");
+}
+
+// Raises the telemetry rate to 64 subscribers of a gateway (the daemon or the relay floor) until some
+// notification is lost; returns the last run without loss (rate 0 if even the first lost some). Each
+// step records the gateway's `stats` counters over it (both count the frames they read).
 RateRun throughput(const fs::path& socket, CanEndpoint& chassis, pid_t gateway, double step_s, json& steps,
                    ProcessSample* rss_with_clients) {
   RateRun best;
   SubscriberSet set(socket, 64);
   for (double rate : {500.0, 1000.0, 2000.0, 4000.0, 8000.0}) {
-    const json stats_before = stats_of(socket);
+    const json stats_before = stats_while_draining(socket, set);
     const RateRun run = run_at_rate(rate, step_s, set, chassis, gateway);
-    json step = {{"rate_hz", rate}, {"records", run.sent}, {"notifications_expected", run.expected_lines},
+    json step = {{"rate_hz", rate}, {"records", run.sent}, {"frames_sent", 3 * run.sent},
+                 {"notifications_expected", run.expected_lines},
                  {"notifications_received", run.received_lines}, {"gateway_cpu_s", run.cpu_s()},
                  {"wall_s", run.wall_s},
                  {"cpu_us_per_record", run.sent ? 1e6 * run.cpu_s() / static_cast<double>(run.sent) : 0.0}};
-    const json stats_after = stats_of(socket);
-    for (const char* key : {"frames_received", "records_accepted", "notifications_dropped", "clients_disconnected_slow"}) {
-      step[key] = stats_after[key].get<std::uint64_t>() - stats_before[key].get<std::uint64_t>();
+    const json stats_after = stats_while_draining(socket, set);
+    json& stats = step["gateway_stats"] = json::object();
+    for (const auto& [key, value] : stats_after.items()) {
+      if (value.is_number_unsigned()) stats[key] = value.get<std::uint64_t>() - stats_before.value(key, std::uint64_t{0});
+      if (!value.is_object()) continue;
+      stats[key] = json::object();  // counts by reason: those that changed
+      for (const auto& [reason, count] : value.items()) {
+        const auto delta = count.get<std::uint64_t>() - stats_before[key].value(reason, std::uint64_t{0});
+        if (delta > 0) stats[key][reason] = delta;
+      }
     }
     std::cerr << "  " << step.dump() << "\n";
     steps.push_back(step);
@@ -312,6 +344,86 @@ RateRun throughput(const fs::path& socket, CanEndpoint& chassis, pid_t gateway, 
   }
   if (rss_with_clients) *rss_with_clients = sample_process(gateway);
   return best;
+}
+
+// Where the first step with loss lost it: frames the gateway read of those sent (the rest were
+// dropped at its CAN socket's receive queue; the relay also reports the kernel's drop count).
+std::string loss_location(const json& steps) {
+  for (const json& step : steps) {
+    const auto expected = step["notifications_expected"].get<std::uint64_t>();
+    const auto received = step["notifications_received"].get<std::uint64_t>();
+    if (received >= expected) continue;
+    const json& stats = step["gateway_stats"];
+    std::string text = fmt::format("at {:.0f}/s: {} of {} frames read", step["rate_hz"].get<double>(),
+                                   stats.value("frames_received", std::uint64_t{0}), step["frames_sent"].get<std::uint64_t>());
+    if (stats.contains("frames_dropped")) text += fmt::format(" ({} dropped by the kernel)", stats["frames_dropped"].get<std::uint64_t>());
+    if (stats.contains("records_accepted")) {
+      text += fmt::format(", {} of {} records accepted", stats["records_accepted"].get<std::uint64_t>(),
+                          step["records"].get<std::uint64_t>());
+    }
+    if (stats.contains("notifications_dropped")) {
+      text += fmt::format(", {} replaced or dropped for slow subscribers", stats["notifications_dropped"].get<std::uint64_t>());
+    }
+    for (const char* key : {"groups_discarded", "records_rejected"}) {
+      if (stats.contains(key) && !stats[key].empty()) text += fmt::format(" ({} {})", key, stats[key].dump());
+    }
+    return text + fmt::format(", {} of {} notifications", received, expected);
+  }
+  return "no loss";
+}
+
+// ---- idle, counted exactly: system calls (strace) and user-space instructions (callgrind) ----
+
+struct CountedIdle {
+  double seconds = 0;
+  std::map<std::string, std::uint64_t> syscalls;  // by name; "total"
+  json to_json() const {
+    return {{"seconds", seconds}, {"syscalls", syscalls},
+            {"syscalls_per_s", seconds > 0 ? static_cast<double>(syscalls.at("total")) / seconds : 0.0}};
+  }
+};
+
+// 1 subscriber, telemetry at 20 Hz, with strace counting the gateway's system calls (its
+// context switches are not counted here: each ptrace stop is one).
+CountedIdle idle_syscalls(const Settings& s, const fs::path& socket, CanEndpoint& chassis, pid_t gateway,
+                          const fs::path& dir, const std::string& name) {
+  SubscriberSet one(socket, 1);
+  SyscallCount count(s.strace, gateway, dir, name);
+  const RateRun run = run_at_rate(20.0, s.idle_s, one, chassis, gateway);
+  CountedIdle result;
+  result.syscalls = count.stop();
+  result.seconds = run.wall_s;
+  return result;
+}
+
+// The same load on a second instance of the gateway run under callgrind: its user-space
+// instructions over the window (start-up and subscription excluded).
+json idle_instructions(const Settings& s, const std::vector<std::string>& gateway_argv, const fs::path& socket,
+                       CanEndpoint& chassis, const fs::path& dir, const std::string& name) {
+  const fs::path out_file = dir / (name + ".callgrind");
+  std::vector<std::string> argv = {s.valgrind, "--tool=callgrind", "--callgrind-out-file=" + out_file.string()};
+  argv.insert(argv.end(), gateway_argv.begin(), gateway_argv.end());
+  ChildProgram gateway(name + "-callgrind", argv, dir);
+  gateway.wait_for_socket(socket, 120);
+  SubscriberSet one(socket, 1);
+  CallgrindCounter counter(s.callgrind_control, gateway.pid(), out_file);
+  counter.dump();  // start of the window
+  const RateRun run = run_at_rate(20.0, s.idle_s, one, chassis, gateway.pid());
+  const std::uint64_t instructions = counter.dump();
+  gateway.terminate();
+  return {{"seconds", run.wall_s}, {"records", run.sent}, {"lost", run.lost()}, {"instructions", instructions},
+          {"instructions_per_s", static_cast<double>(instructions) / run.wall_s}};
+}
+
+// A count that could not be made (e.g. ptrace not permitted outside UML without root) is
+// reported and left out of the results; no other figure depends on it.
+template <typename Count>
+void optional_count(const char* what, Count&& count) {
+  try {
+    count();
+  } catch (const std::exception& e) {
+    std::cerr << "bench: " << what << " not counted: " << e.what() << "\n";
+  }
 }
 
 std::uint64_t interface_tx_packets(const std::string& interface) {
@@ -392,8 +504,45 @@ int main(int argc, char** argv) try {
     relay_tel1 = telemetry_latency(socket, chassis, 1, s.records_1);
     relay_tel64 = telemetry_latency(socket, chassis, 64, s.records_64);
     std::cerr << "bench: relay floor idle, 1 subscriber at 20 Hz for " << s.idle_s << " s\n";
-    SubscriberSet one(socket, 1);
-    relay_idle = run_at_rate(20.0, s.idle_s, one, chassis, relay.pid());
+    {
+      SubscriberSet one(socket, 1);
+      relay_idle = run_at_rate(20.0, s.idle_s, one, chassis, relay.pid());
+    }
+    if (!s.strace.empty()) {
+      std::cerr << "bench: relay floor idle under strace -c\n";
+      optional_count("relay floor idle system calls", [&] {
+        out["floor"]["relay_idle_counted"] = idle_syscalls(s, socket, chassis, relay.pid(), dir, "relay").to_json();
+      });
+    }
+    std::cerr << "bench: relay floor throughput to 64 subscribers\n";
+    json steps = json::array();
+    const RateRun best = throughput(socket, chassis, relay.pid(), s.throughput_step_s, steps, nullptr);
+    out["floor"]["relay_throughput_steps"] = steps;
+    out["floor"]["relay_throughput"] = {{"max_no_loss_rate_hz", best.rate_hz},
+                                        {"cpu_us_per_record", best.sent ? 1e6 * best.cpu_s() / static_cast<double>(best.sent) : 0.0}};
+  }
+  {
+    // The relay with the daemon's slow-client rule: where subscribers fall behind, it drops
+    // as the daemon does instead of waiting for them.
+    std::cerr << "bench: relay floor with a bounded backlog, throughput to 64 subscribers\n";
+    const fs::path socket = dir / "floor-bounded.sock";
+    ChildProgram relay("floor-bounded", {s.floor, "--interface", s.interface, "--socket", socket.string(), "--bounded-backlog"},
+                       dir);
+    relay.wait_for_socket(socket);
+    CanEndpoint chassis(s.interface, {});
+    json steps = json::array();
+    const RateRun best = throughput(socket, chassis, relay.pid(), s.throughput_step_s, steps, nullptr);
+    out["floor"]["bounded_relay_throughput_steps"] = steps;
+    out["floor"]["bounded_relay_throughput"] = {{"max_no_loss_rate_hz", best.rate_hz}};
+  }
+  if (!s.valgrind.empty() && !s.callgrind_control.empty()) {
+    std::cerr << "bench: relay floor idle under callgrind\n";
+    const fs::path socket = dir / "floor-callgrind.sock";
+    CanEndpoint chassis(s.interface, {});
+    optional_count("relay floor idle instructions", [&] {
+      out["floor"]["relay_idle_instructions"] = idle_instructions(
+          s, {s.floor, "--interface", s.interface, "--socket", socket.string()}, socket, chassis, dir, "relay");
+    });
   }
   out["floor"]["relay_idle"] = {{"seconds", relay_idle.wall_s}, {"cpu_percent", 100.0 * relay_idle.cpu_s() / relay_idle.wall_s},
                                 {"voluntary_switches_per_s",
@@ -429,6 +578,12 @@ int main(int argc, char** argv) try {
   out["wheeltecd"]["idle"] = {{"seconds", idle.wall_s}, {"records", idle.sent}, {"lost", idle.lost()},
                               {"cpu_percent", idle_cpu_pct}, {"voluntary_switches_per_s", idle_wakeups},
                               {"involuntary_switches_per_s", idle_preempted}};
+  if (!s.strace.empty()) {
+    std::cerr << "bench: wheeltecd idle under strace -c\n";
+    optional_count("wheeltecd idle system calls", [&] {
+      out["wheeltecd"]["idle_counted"] = idle_syscalls(s, socket, chassis, daemon.pid(), dir, "wheeltecd").to_json();
+    });
+  }
 
   std::cerr << "bench: wheeltecd command latency, in turns with the relay floor\n";
   InterleavedCommands commands;
@@ -439,6 +594,23 @@ int main(int argc, char** argv) try {
     while (observer.receive(0)) {
     }
     commands = interleaved_command_latency(socket, relay_socket, observer, s.commands);
+    if (!s.strace.empty()) {
+      // Counted in a second pass: strace slows every call, which would distort the latencies above.
+      std::cerr << "bench: wheeltecd and relay floor commands under strace -c\n";
+      optional_count("system calls per drive", [&] {
+        SyscallCount daemon_count(s.strace, daemon.pid(), dir, "wheeltecd-commands");
+        SyscallCount relay_count(s.strace, relay.pid(), dir, "relay-commands");
+        const double start = now_us();
+        interleaved_command_latency(socket, relay_socket, observer, s.commands);
+        const double seconds = (now_us() - start) / 1e6;
+        const auto per_drive = [&](const std::map<std::string, std::uint64_t>& calls) {
+          return json{{"drives", s.commands}, {"seconds", seconds}, {"syscalls", calls},
+                      {"syscalls_per_drive", static_cast<double>(calls.at("total")) / s.commands}};
+        };
+        out["wheeltecd"]["command_syscalls"] = per_drive(daemon_count.stop());
+        out["floor"]["relay_command_syscalls"] = per_drive(relay_count.stop());
+      });
+    }
   }
   const LatencySummary command = summarize(commands.daemon.total);
   const LatencySummary relay_command = summarize(commands.relay.total);
@@ -492,6 +664,13 @@ int main(int argc, char** argv) try {
   }
   out["wheeltecd"]["flood"] = flood_json;
   daemon.terminate();
+  if (!s.valgrind.empty() && !s.callgrind_control.empty()) {
+    std::cerr << "bench: wheeltecd idle under callgrind\n";
+    optional_count("wheeltecd idle instructions", [&] {
+      out["wheeltecd"]["idle_instructions"] =
+          idle_instructions(s, {s.wheeltecd, "--config", config.string()}, socket, chassis, dir, "wheeltecd");
+    });
+  }
 
   // ---- the table ----
   const auto ratio = [](double a, double b) { return b > 0 ? fmt::format("{:.1f}x", a / b) : std::string("-"); };
@@ -521,8 +700,13 @@ int main(int argc, char** argv) try {
                    verdict(tel64.all.p99_us <= 3 * relay_tel64.all.p99_us));
   t += fmt::format("| telemetry lost in the latency runs | {} | relay {} | | 0 | {} |\n", tel1.lost + tel64.lost,
                    relay_tel1.lost + relay_tel64.lost, verdict(tel1.lost + tel64.lost == 0));
-  t += fmt::format("| max no-loss rate to 64 subscribers (records/s) | {:.0f} | | | >= 2000 | {} |\n", best.rate_hz,
-                   verdict(best.rate_hz >= 2000));
+  const double relay_best_rate = out["floor"]["relay_throughput"]["max_no_loss_rate_hz"].get<double>();
+  const double bounded_best_rate = out["floor"]["bounded_relay_throughput"]["max_no_loss_rate_hz"].get<double>();
+  t += fmt::format("| max no-loss rate to 64 subscribers (records/s) | {:.0f} | relay {:.0f} / relay with the daemon's 64 KiB backlog rule {:.0f} | | >= 2000 | {} |\n",
+                   best.rate_hz, relay_best_rate, bounded_best_rate, verdict(best.rate_hz >= 2000));
+  t += fmt::format("| where the first lossy step lost | {} | relay {}; bounded relay {} | | | |\n", loss_location(steps),
+                   loss_location(out["floor"]["relay_throughput_steps"]),
+                   loss_location(out["floor"]["bounded_relay_throughput_steps"]));
   t += fmt::format("| daemon CPU per record at that rate, 64 subscribers (us) | {:.1f} | | | | |\n", cpu_us_per_record);
   if (!flood_json.is_null()) {
     t += fmt::format("| flood: foreign frames/s on the bus | {:.0f} | | | | |\n", flood_fps);
@@ -536,10 +720,26 @@ int main(int argc, char** argv) try {
   const double relay_idle_pct = 100.0 * relay_idle.cpu_s() / relay_idle.wall_s;
   const double relay_wakeups =
       static_cast<double>(relay_idle.after.voluntary_switches - relay_idle.before.voluntary_switches) / relay_idle.wall_s;
-  t += fmt::format("| idle: CPU, 1 subscriber at 20 Hz, {:.0f} s (% of a core) | {:.3f} | relay {:.3f} | | < 0.2 | {} |\n",
+  t += fmt::format("| idle: CPU, 1 subscriber at 20 Hz, {:.0f} s (% of a core, tick-sampled utime+stime) | {:.3f} | relay {:.3f} | | < 0.2 | {} |\n",
                    idle.wall_s, idle_cpu_pct, relay_idle_pct, verdict(idle_cpu_pct < 0.2));
   t += fmt::format("| idle: wakeups/s (voluntary context switches) | {:.1f} | relay {:.1f} | | | |\n", idle_wakeups,
                    relay_wakeups);
+  const auto number = [](const json& j, const char* key) { return j.is_object() ? j.value(key, 0.0) : 0.0; };
+  if (out["wheeltecd"].contains("idle_counted")) {
+    t += fmt::format("| idle, counted: system calls/s (strace -c, {:.0f} s) | {:.1f} | relay {:.1f} | | | |\n",
+                     number(out["wheeltecd"]["idle_counted"], "seconds"),
+                     number(out["wheeltecd"]["idle_counted"], "syscalls_per_s"),
+                     number(out["floor"]["relay_idle_counted"], "syscalls_per_s"));
+    t += fmt::format("| command: system calls per drive (strace -c, {} drives each, in turns) | {:.2f} | relay {:.2f} | | | |\n",
+                     s.commands, number(out["wheeltecd"]["command_syscalls"], "syscalls_per_drive"),
+                     number(out["floor"]["relay_command_syscalls"], "syscalls_per_drive"));
+  }
+  if (out["wheeltecd"].contains("idle_instructions")) {
+    t += fmt::format("| idle, counted: user-space instructions/s (callgrind, {:.0f} s) | {:.0f} | relay {:.0f} | | | |\n",
+                     number(out["wheeltecd"]["idle_instructions"], "seconds"),
+                     number(out["wheeltecd"]["idle_instructions"], "instructions_per_s"),
+                     number(out["floor"]["relay_idle_instructions"], "instructions_per_s"));
+  }
   t += fmt::format("| RSS, 0 clients (MiB) | {:.2f} | | | | |\n", rss0.rss_kib / 1024.0);
   t += fmt::format("| RSS, 64 clients (MiB) | {:.2f} | | | < 8 | {} |\n", rss64.rss_kib / 1024.0,
                    verdict(rss64.rss_kib < 8 * 1024));

@@ -2,9 +2,16 @@
 // can do. One epoll loop over a raw CAN socket (kernel-filtered to 0x101-0x103) and a
 // Unix stream socket. Every request line gets a fixed reply; a line containing "drive"
 // first sends a control frame on 0x121 carrying its "vx" in mm/s; a line containing
-// "subscribe" makes the client a subscriber; each 0x103 frame sends a fixed-shape
-// telemetry line (the size of the daemon's) to every subscriber. No JSON parsing, no
-// protocol checks, no backpressure: a floor, not a product.
+// "subscribe" makes the client a subscriber; each 0x103 frame makes a fixed-shape
+// telemetry line (the size of the daemon's), and the lines of the frames read in one
+// wakeup go to every subscriber together, up to 64 per write (the fewest system calls;
+// the daemon's kMaxBuffersPerWrite is 64 too); a line containing
+// "stats" is answered with the frames read and the frames the kernel dropped at the CAN
+// socket's receive queue (SO_RXQ_OVFL). No JSON parsing, no protocol checks, no
+// backpressure: a floor, not a product. By default a subscriber that lags makes the relay
+// block; with --bounded-backlog it follows the daemon's rule instead (non-blocking writes,
+// at most 64 KiB queued per client, new telemetry dropped and counted above that), so
+// that the two can be compared where subscribers fall behind.
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
@@ -14,6 +21,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -26,7 +34,10 @@ struct Client {
   int fd = -1;
   bool subscribed = false;
   std::string input;
+  std::string output;  // --bounded-backlog: what the socket did not take yet
 };
+
+constexpr std::size_t kBacklogLimit = 64 * 1024;  // the daemon's (docs/api.md, "Slow clients")
 
 [[noreturn]] void fail(const char* what) {
   std::fprintf(stderr, "wheeltec-bench-floor: %s: %s\n", what, std::strerror(errno));
@@ -46,12 +57,14 @@ void write_all(int fd, const char* data, std::size_t size) {
 
 int main(int argc, char** argv) {
   std::string interface = "vcan0", socket_path;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (std::strcmp(argv[i], "--interface") == 0) interface = argv[i + 1];
-    if (std::strcmp(argv[i], "--socket") == 0) socket_path = argv[i + 1];
+  bool bounded = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--bounded-backlog") == 0) bounded = true;
+    else if (i + 1 < argc && std::strcmp(argv[i], "--interface") == 0) interface = argv[++i];
+    else if (i + 1 < argc && std::strcmp(argv[i], "--socket") == 0) socket_path = argv[++i];
   }
   if (socket_path.empty()) {
-    std::fprintf(stderr, "usage: wheeltec-bench-floor --socket PATH [--interface vcan0]\n");
+    std::fprintf(stderr, "usage: wheeltec-bench-floor --socket PATH [--interface vcan0] [--bounded-backlog]\n");
     return 2;
   }
 
@@ -60,6 +73,13 @@ int main(int argc, char** argv) {
   can_filter filters[3];
   for (int i = 0; i < 3; ++i) filters[i] = can_filter{static_cast<canid_t>(0x101 + i), CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG};
   ::setsockopt(can, SOL_CAN_RAW, CAN_RAW_FILTER, filters, sizeof(filters));
+  const int on = 1;
+  ::setsockopt(can, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof(on));
+  // The receive buffer wheeltecd asks for (4 MiB; forced when privileged, else capped by rmem_max).
+  const int buffer = 4 * 1024 * 1024;
+  if (::setsockopt(can, SOL_SOCKET, SO_RCVBUFFORCE, &buffer, sizeof(buffer)) != 0) {
+    ::setsockopt(can, SOL_SOCKET, SO_RCVBUF, &buffer, sizeof(buffer));
+  }
   sockaddr_can can_address{};
   can_address.can_family = AF_CAN;
   can_address.can_ifindex = static_cast<int>(::if_nametoindex(interface.c_str()));
@@ -86,7 +106,42 @@ int main(int argc, char** argv) {
 
   std::vector<Client> clients;
   unsigned long long seq = 0;
+  unsigned long long frames_received = 0;
+  std::uint32_t frames_dropped = 0;  // the kernel's count, carried on the frames read after a drop
+  unsigned long long notifications_dropped = 0;  // --bounded-backlog
   char line[600];
+  // Sends to a client: blocking, or (--bounded-backlog) what the socket takes now, the rest
+  // queued and written when it becomes writable; telemetry beyond the limit is dropped.
+  const auto send_to = [&](Client& c, const char* data, std::size_t size, std::size_t lines_if_dropped) {
+    if (!bounded) return write_all(c.fd, data, size);
+    if (!c.output.empty()) {
+      if (lines_if_dropped > 0 && c.output.size() >= kBacklogLimit) {
+        notifications_dropped += lines_if_dropped;
+        return;
+      }
+      c.output.append(data, size);
+      return;
+    }
+    const ssize_t n = ::send(c.fd, data, size, MSG_NOSIGNAL | MSG_DONTWAIT);
+    const std::size_t sent = n > 0 ? static_cast<std::size_t>(n) : 0;
+    if (sent == size || (n < 0 && errno != EAGAIN)) return;
+    c.output.assign(data + sent, size - sent);
+    epoll_event writable{};
+    writable.events = EPOLLIN | EPOLLOUT;
+    writable.data.fd = c.fd;
+    ::epoll_ctl(epoll, EPOLL_CTL_MOD, c.fd, &writable);
+  };
+  std::string batch;  // the telemetry lines of one wakeup, up to 64 (as the daemon's writes)
+  constexpr std::size_t kMaxBatch = 64 * 330;
+  std::size_t batch_lines = 0;
+  const auto flush = [&] {
+    if (batch.empty()) return;
+    for (Client& c : clients) {
+      if (c.fd >= 0 && c.subscribed) send_to(c, batch.data(), batch.size(), batch_lines);
+    }
+    batch.clear();
+    batch_lines = 0;
+  };
   static const char kReply[] = "{\"jsonrpc\":\"2.0\",\"result\":{},\"id\":0}\n";
 
   for (;;) {
@@ -101,10 +156,22 @@ int main(int argc, char** argv) {
         event.data.fd = client;
         ::epoll_ctl(epoll, EPOLL_CTL_ADD, client, &event);
         if (static_cast<std::size_t>(client) >= clients.size()) clients.resize(client + 1);
-        clients[client] = Client{client, false, {}};
+        clients[client] = Client{client, false, {}, {}};
       } else if (fd == can) {
         can_frame frame;
-        while (::read(can, &frame, sizeof(frame)) == static_cast<ssize_t>(sizeof(frame))) {
+        iovec data{&frame, sizeof(frame)};
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(std::uint32_t))];
+        msghdr message{};
+        message.msg_iov = &data;
+        message.msg_iovlen = 1;
+        for (;;) {
+          message.msg_control = control;
+          message.msg_controllen = sizeof(control);
+          if (::recvmsg(can, &message, 0) != static_cast<ssize_t>(sizeof(frame))) break;
+          ++frames_received;
+          for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+            if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) std::memcpy(&frames_dropped, CMSG_DATA(c), 4);
+          }
           if ((frame.can_id & CAN_SFF_MASK) != 0x103) continue;
           const int size = std::snprintf(
               line, sizeof(line),
@@ -113,12 +180,24 @@ int main(int argc, char** argv) {
               "\"y\":-0.3361,\"z\":9.8756},\"gyro\":{\"x\":-0.00133,\"y\":0.00187,\"z\":0.00027},\"battery\":"
               "{\"voltage\":22.584,\"low\":false},\"odom\":{\"x\":0.000000,\"y\":0.000000,\"yaw\":0.000000}}}\n",
               ++seq);
-          for (const Client& c : clients) {
-            if (c.fd >= 0 && c.subscribed) write_all(c.fd, line, static_cast<std::size_t>(size));
-          }
+          batch.append(line, static_cast<std::size_t>(size));
+          ++batch_lines;
+          if (batch.size() >= kMaxBatch) flush();
         }
+        flush();
       } else {
         Client& c = clients[fd];
+        if ((events[e].events & EPOLLOUT) != 0 && !c.output.empty()) {
+          const ssize_t sent = ::send(fd, c.output.data(), c.output.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+          if (sent > 0) c.output.erase(0, static_cast<std::size_t>(sent));
+          if (c.output.empty()) {
+            epoll_event readable{};
+            readable.events = EPOLLIN;
+            readable.data.fd = fd;
+            ::epoll_ctl(epoll, EPOLL_CTL_MOD, fd, &readable);
+          }
+        }
+        if ((events[e].events & (EPOLLIN | EPOLLHUP | EPOLLERR)) == 0) continue;
         char chunk[4096];
         const ssize_t got = ::recv(fd, chunk, sizeof(chunk), 0);
         if (got <= 0) {
@@ -142,7 +221,16 @@ int main(int argc, char** argv) {
             if (::write(can, &out, sizeof(out)) < 0) std::perror("CAN write");
           }
           if (request.find("\"subscribe\"") != std::string::npos) c.subscribed = true;
-          write_all(fd, kReply, sizeof(kReply) - 1);
+          if (request.find("\"stats\"") != std::string::npos) {
+            const int size = std::snprintf(
+                line, sizeof(line),
+                "{\"jsonrpc\":\"2.0\",\"result\":{\"frames_received\":%llu,\"frames_dropped\":%u,\"records_relayed\":%llu,"
+                "\"notifications_dropped\":%llu},\"id\":0}\n",
+                frames_received, frames_dropped, seq, notifications_dropped);
+            send_to(c, line, static_cast<std::size_t>(size), 0);
+            continue;
+          }
+          send_to(c, kReply, sizeof(kReply) - 1, 0);
         }
       }
     }

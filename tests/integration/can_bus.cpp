@@ -5,7 +5,6 @@
 #include <net/if.h>
 #include <poll.h>
 #include <sys/socket.h>
-#include <sys/uio.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -63,24 +62,12 @@ std::optional<ObservedFrame> CanBus::receive(std::chrono::milliseconds timeout) 
   if (polled < 0) throw system_error("poll");
   if (polled == 0) return std::nullopt;
 
-  can_frame raw{};
-  iovec data{&raw, sizeof(raw)};
-  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec))];
-  msghdr message{};
-  message.msg_iov = &data;
-  message.msg_iovlen = 1;
-  message.msg_control = control;
-  message.msg_controllen = sizeof(control);
-  if (::recvmsg(fd_, &message, 0) != static_cast<ssize_t>(sizeof(raw))) throw system_error("recvmsg");
-
-  ObservedFrame observed{wheeltec::asio_can::from_socketcan(raw), WallClock::now()};
-  for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
-    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_TIMESTAMPNS) {
-      timespec stamp;
-      std::memcpy(&stamp, CMSG_DATA(c), sizeof(stamp));
-      observed.time = WallClock::time_point(std::chrono::duration_cast<WallClock::duration>(
-          std::chrono::seconds(stamp.tv_sec) + std::chrono::nanoseconds(stamp.tv_nsec)));
-    }
+  boost::system::error_code error;
+  const auto received = wheeltec::asio_can::receive_frame(fd_, error);
+  if (!received) throw std::runtime_error("CanBus: recvmsg: " + error.message());
+  ObservedFrame observed{received->frame, WallClock::now()};
+  if (received->time.count() != 0) {
+    observed.time = WallClock::time_point(std::chrono::duration_cast<WallClock::duration>(received->time));
   }
   return observed;
 }
