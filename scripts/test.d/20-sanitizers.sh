@@ -6,7 +6,8 @@
 #      which scripts/vcan-run runs inside User-Mode Linux on a kernel without SocketCAN.
 #      ASan and LSan cannot run there: their shadow memory and allocator need address
 #      ranges that UML's processes do not have (the runtime aborts at start-up);
-#      25-memcheck.sh runs those suites with the programs under valgrind instead.
+#      25-memcheck.sh runs those suites with the programs under valgrind instead. Where
+#      vcan-run runs natively, the ASan build runs the vcan suites as well.
 # Any sanitizer report fails the stage: reports make the process fail (halt_on_error,
 # abort_on_error), and UBSan reports are also written to files that are checked at the end.
 #   SANITIZER_BUILD_DIR  prefix of the two build directories (default $BUILD_DIR-sanitizers)
@@ -41,6 +42,15 @@ echo "sanitizers: unit tests (ASan, LSan, UBSan)"
 cmake --build "$asan" -j "$jobs" --target integration_tests
 echo "sanitizers: command-line integration tests (ASan, LSan, UBSan)"
 "$asan/tests/integration/integration_tests" --gtest_filter='CommandLine.*' --gtest_color=no --gtest_brief=1 || failed=1
+
+# Where scripts/vcan-run runs natively (a host with the vcan module), ASan and LSan work
+# for the vcan suites too.
+if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
+  echo "sanitizers: vcan integration tests natively (ASan, LSan, UBSan)"
+  (cd "$asan" && ctest -L vcan -LE soak --output-on-failure) || failed=1
+else
+  echo "sanitizers: vcan0 is in User-Mode Linux here: the vcan suites run under UBSan only (and memcheck, 25-memcheck.sh)"
+fi
 
 ubsan=$prefix/ubsan
 echo "sanitizers: UndefinedBehaviorSanitizer build in $ubsan"
