@@ -28,8 +28,7 @@ bool same_velocity(const ControlCommand& a, const ControlCommand& b) { return a.
 }  // namespace
 
 ControlLoop::ControlLoop(boost::asio::io_context& io, CanLink& link, const GatewayConfig& config)
-    : io_(io),
-      link_(link),
+    : link_(link),
       config_(config),
       arbiter_(seconds_to_nanos(config.control.command_timeout_s)),
       period_timer_(io),

@@ -78,7 +78,6 @@ class ControlLoop {
   bool release_if_lapsed();
   void notify_if_changed(bool was_enabled, std::optional<ClientId> previous_owner, const ControlCommand& previous);
 
-  boost::asio::io_context& io_;
   CanLink& link_;
   GatewayConfig config_;
   ControlArbiter arbiter_;
