@@ -97,6 +97,10 @@ void ApiServer::publish_telemetry(const SharedText& notification) {
   }
 }
 
+void ApiServer::flush_telemetry() {
+  for (const auto& [id, session] : sessions_) session->flush();
+}
+
 void ApiServer::publish_status(const SharedText& notification) {
   for (const auto& [id, session] : sessions_) {
     if (session->state().wants_status) session->send_status(notification);

@@ -44,7 +44,10 @@ class ApiServer {
 
   bool has_telemetry_subscribers() const;
   bool has_status_subscribers() const;
+  // Queues a telemetry notification for every subscriber; flush_telemetry() sends what
+  // was queued (once per batch of CAN frames: one send per subscriber for the batch).
   void publish_telemetry(const SharedText& notification);
+  void flush_telemetry();
   void publish_status(const SharedText& notification);
 
   // Run-time changes (SIGHUP); they apply to clients that connect from now on.

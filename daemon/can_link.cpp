@@ -287,8 +287,10 @@ void CanLink::on_frames(std::span<const asio_can::ReceivedFrame> frames, const b
       if (frame_handler_) frame_handler_(received);
     }
     // A handler may have stopped or restarted the link.
-    if (generation != generation_) return;
+    if (generation != generation_) break;
   }
+  if (batch_handler_) batch_handler_();
+  if (generation != generation_) return;
   if (ec) {
     go_down(ec);
     return;

@@ -49,6 +49,9 @@ class CanLink {
 
   // Handlers are called from the io_context; set them before start().
   void on_frame(FrameHandler handler) { frame_handler_ = std::move(handler); }
+  // After the frames read in one wakeup went to the frame handler: what they produced can
+  // go out together.
+  void on_batch_handled(std::function<void()> handler) { batch_handler_ = std::move(handler); }
   void on_state(StateHandler handler) { state_handler_ = std::move(handler); }
 
   void start();
@@ -89,6 +92,7 @@ class CanLink {
   BusState state_ = BusState::down;
   CanLinkCounters counters_;
   FrameHandler frame_handler_;
+  std::function<void()> batch_handler_;
   StateHandler state_handler_;
   // Bumped whenever the socket is closed or reopened: completions of an older socket are stale.
   std::uint64_t generation_ = 0;

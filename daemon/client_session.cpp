@@ -49,6 +49,11 @@ void ClientSession::send_telemetry(SharedText notification) {
   enqueue(std::move(notification), true);
 }
 
+void ClientSession::flush() {
+  start_write();
+  output_progressed(Resume::posted);  // this may run while the sessions are being iterated
+}
+
 void ClientSession::close() {
   gone_reported_ = true;
   shut();
@@ -200,21 +205,20 @@ bool ClientSession::enqueue(SharedText text, bool telemetry) {
   output_.push_back(Outgoing{std::move(text), telemetry});
   backlog_bytes_ += size;
   backlog_changed();
-  start_write(telemetry ? WriteMode::wait_for_completion : WriteMode::at_once);
+  if (!telemetry) {
+    start_write();
+    output_progressed(Resume::posted);  // this may run while a request is being handled
+  }
   return true;
 }
 
-// WriteMode::at_once (responses): what the socket takes is written here, without a
-// completion handler, so a request costs one send and no extra turn of the event loop (a
-// turn with a completion pending costs an epoll_wait of its own). Only a remainder the
-// socket did not take waits for it with an asynchronous write.
-// WriteMode::wait_for_completion (telemetry): the write's completion runs after the handler
-// that published the record, so the records that the same CAN drain completes meanwhile
-// queue up and go out together in the next write (one write per drain, not per record,
-// when the daemon is behind).
-void ClientSession::start_write(WriteMode mode) {
+// What the socket takes is written here, without a completion handler: a send costs one
+// system call and no extra turn of the event loop (a turn with a completion pending costs
+// an epoll_wait of its own), and a batch of telemetry goes to all subscribers in one tight
+// loop. Only a remainder the socket did not take waits for it with an asynchronous write.
+void ClientSession::start_write() {
   if (closed_ || in_flight_ > 0 || output_.empty()) return;
-  if (mode == WriteMode::at_once && direct_writes_) {
+  if (direct_writes_) {
     gather_write_buffers();
     boost::system::error_code error;
     const std::size_t written = socket_.write_some(write_buffers_, error);
@@ -224,16 +228,12 @@ void ClientSession::start_write(WriteMode mode) {
     }
     consume_written(written);
     backlog_changed();
-    if (output_.empty()) {
-      output_progressed(Resume::posted);  // this may run while a request is being handled
-      return;
-    }
+    if (output_.empty()) return;
   }
   gather_write_buffers();
   in_flight_ = write_buffers_.size();
   // async_write_some, not async_write: async_write hands the socket at most 16 buffers per
-  // send, so a backlog of 64 notifications took four sends. on_write() takes a partial
-  // write as it comes and writes the rest.
+  // send. on_write() takes a partial write as it comes and writes the rest.
   socket_.async_write_some(write_buffers_,
                            [self = shared_from_this()](const boost::system::error_code& error, std::size_t bytes) {
                              self->on_write(error, bytes);
@@ -277,7 +277,7 @@ void ClientSession::on_write(const boost::system::error_code& error, std::size_t
   in_flight_ = 0;
   consume_written(bytes);
   backlog_changed();
-  if (!output_.empty()) start_write(WriteMode::wait_for_completion);
+  start_write();
   output_progressed(Resume::at_once);
 }
 

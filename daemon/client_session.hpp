@@ -67,10 +67,14 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   // Instead of start(): sends this one line (an error) and closes without reading requests.
   void refuse(SharedText line);
 
-  // A status notification (shared by all subscribers).
+  // A status notification (shared by all subscribers); written at once.
   void send_status(SharedText notification);
-  // A telemetry notification (shared by all subscribers); coalesced when the client lags.
+  // A telemetry notification (shared by all subscribers); queued until flush(), and
+  // coalesced when the client lags.
   void send_telemetry(SharedText notification);
+  // Writes the queued telemetry: called once per batch of CAN frames, so that the records of
+  // one batch go to the client in one send.
+  void flush();
 
   // Closes the connection now, without flushing (daemon shutdown).
   void close();
@@ -84,7 +88,6 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   };
 
   enum class LinesResult { drained, yielded, blocked };
-  enum class WriteMode { at_once, wait_for_completion };
   enum class Resume { at_once, posted };  // how reading paused by backpressure is resumed
 
   void pump();
@@ -98,7 +101,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   void end_of_input();
 
   bool enqueue(SharedText text, bool telemetry);
-  void start_write(WriteMode mode);
+  void start_write();
   void gather_write_buffers();
   // Removes what a write took from the front of output_ (a message may be taken in part).
   void consume_written(std::size_t bytes);
@@ -136,7 +139,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   std::deque<Outgoing> output_;
   std::size_t front_written_ = 0;  // bytes of output_.front() already written
   std::size_t in_flight_ = 0;     // entries of output_ in the async_write under way
-  bool direct_writes_ = false;    // the socket is non-blocking: WriteMode::at_once is possible
+  bool direct_writes_ = false;    // the socket is non-blocking: start_write() can write at once
   std::size_t backlog_bytes_ = 0;
   std::vector<boost::asio::const_buffer> write_buffers_;
   boost::asio::steady_timer deadline_timer_;  // slow-client deadline; while lingering, the close deadline

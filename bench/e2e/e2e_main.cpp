@@ -245,9 +245,17 @@ struct RateRun {
   std::uint64_t expected_lines = 0;
   std::uint64_t received_lines = 0;
   double wall_s = 0;
+  double send_s = 0;  // from the start to the last record sent
   ProcessSample before, after;
+  ProcessSample subscribers_before, subscribers_after;  // this process: the sender and the subscribers
   std::uint64_t lost() const { return expected_lines > received_lines ? expected_lines - received_lines : 0; }
   double cpu_s() const { return after.cpu_s - before.cpu_s; }
+  double subscribers_cpu_s() const { return subscribers_after.cpu_s - subscribers_before.cpu_s; }
+  // The rate the records actually went out at. The sender shares the event loop (and, in
+  // User-Mode Linux, the one CPU) with the subscribers: when they cannot keep up it falls
+  // behind too, and the step did not run at its rate at all.
+  double achieved_rate_hz() const { return send_s > 0 ? static_cast<double>(sent) / send_s : 0.0; }
+  bool reached_rate() const { return sent > 0 && achieved_rate_hz() >= 0.95 * rate_hz; }
 };
 
 RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEndpoint& chassis, pid_t daemon) {
@@ -261,6 +269,7 @@ RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEn
   RateRun run;
   run.rate_hz = rate_hz;
   run.before = sample_process(daemon);
+  run.subscribers_before = sample_process(::getpid());
   const double start = now_us();
   ::timerfd_settime(timer, 0, &spec, nullptr);
   const auto total = static_cast<std::uint64_t>(std::llround(rate_hz * duration_s));
@@ -272,6 +281,7 @@ RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEn
       const auto due = std::min<std::uint64_t>(
           total, static_cast<std::uint64_t>((now_us() - start) / 1e6 * rate_hz) + 1);
       while (run.sent < due) send_group(chassis, telemetry_group(static_cast<int>(run.sent++)));
+      run.send_s = (now_us() - start) / 1e6;
     }
   }
   run.expected_lines = run.sent * set.size();
@@ -285,6 +295,7 @@ RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEn
   }
   run.wall_s = (now_us() - start) / 1e6;
   run.after = sample_process(daemon);
+  run.subscribers_after = sample_process(::getpid());
   run.received_lines = received();
   ::close(timer);
   set.forget_extra();
@@ -312,7 +323,8 @@ json stats_while_draining(const fs::path& socket, SubscriberSet& set) {
 }
 
 // Raises the telemetry rate to 64 subscribers of a gateway (the daemon or the relay floor) until some
-// notification is lost; returns the last run without loss (rate 0 if even the first lost some). Each
+// notification is lost or the step could not send at its rate; returns the last run that did
+// both (rate 0 if even the first failed). Each
 // step records the gateway's `stats` counters over it (both count the frames they read).
 RateRun throughput(const fs::path& socket, CanEndpoint& chassis, pid_t gateway, double step_s, json& steps,
                    ProcessSample* rss_with_clients) {
@@ -324,7 +336,8 @@ RateRun throughput(const fs::path& socket, CanEndpoint& chassis, pid_t gateway, 
     json step = {{"rate_hz", rate}, {"records", run.sent}, {"frames_sent", 3 * run.sent},
                  {"notifications_expected", run.expected_lines},
                  {"notifications_received", run.received_lines}, {"gateway_cpu_s", run.cpu_s()},
-                 {"wall_s", run.wall_s},
+                 {"subscribers_cpu_s", run.subscribers_cpu_s()}, {"wall_s", run.wall_s},
+                 {"achieved_rate_hz", run.achieved_rate_hz()}, {"reached_rate", run.reached_rate()},
                  {"cpu_us_per_record", run.sent ? 1e6 * run.cpu_s() / static_cast<double>(run.sent) : 0.0}};
     const json stats_after = stats_while_draining(socket, set);
     json& stats = step["gateway_stats"] = json::object();
@@ -339,7 +352,7 @@ RateRun throughput(const fs::path& socket, CanEndpoint& chassis, pid_t gateway, 
     }
     std::cerr << "  " << step.dump() << "\n";
     steps.push_back(step);
-    if (run.lost() > 0 || run.sent == 0) break;
+    if (run.lost() > 0 || !run.reached_rate()) break;
     best = run;
   }
   if (rss_with_clients) *rss_with_clients = sample_process(gateway);
@@ -352,7 +365,11 @@ std::string loss_location(const json& steps) {
   for (const json& step : steps) {
     const auto expected = step["notifications_expected"].get<std::uint64_t>();
     const auto received = step["notifications_received"].get<std::uint64_t>();
-    if (received >= expected) continue;
+    if (received >= expected) {
+      if (step.value("reached_rate", true)) continue;
+      return fmt::format("at {:.0f}/s: no loss, but the records went out at only {:.0f}/s (the sender shares the CPU with the subscribers)",
+                         step["rate_hz"].get<double>(), step["achieved_rate_hz"].get<double>());
+    }
     const json& stats = step["gateway_stats"];
     std::string text = fmt::format("at {:.0f}/s: {} of {} frames read", step["rate_hz"].get<double>(),
                                    stats.value("frames_received", std::uint64_t{0}), step["frames_sent"].get<std::uint64_t>());
@@ -473,9 +490,30 @@ int main(int argc, char** argv) try {
                 << "\n";
       relay.terminate();
     } else if (s.throughput_only) {
+      // The daemon, then the relay floor under the same slow-client rule, one line per step.
       json steps = json::array();
       throughput(socket, chassis, daemon.pid(), s.throughput_step_s, steps, nullptr);
-      std::cout << steps.dump(2) << "\n";
+      daemon.terminate();
+      const fs::path relay_socket = dir / "floor-bounded.sock";
+      ChildProgram relay("floor-bounded",
+                         {s.floor, "--interface", s.interface, "--socket", relay_socket.string(), "--bounded-backlog"}, dir);
+      relay.wait_for_socket(relay_socket);
+      json relay_steps = json::array();
+      throughput(relay_socket, chassis, relay.pid(), s.throughput_step_s, relay_steps, nullptr);
+      relay.terminate();
+      for (const auto& [name, list] : {std::pair{"wheeltecd", &steps}, std::pair{"bounded relay", &relay_steps}}) {
+        for (const json& step : *list) {
+          std::cout << fmt::format("{:>13} {:>5.0f}/s (sent at {:>5.0f}/s): lost {:>6} of {:>6}, gateway {:>4.0f} us/record, subscribers {:>4.0f} us/record, wall {:.2f} s\n",
+                                   name, step["rate_hz"].get<double>(), step["achieved_rate_hz"].get<double>(),
+                                   step["notifications_expected"].get<std::uint64_t>() - step["notifications_received"].get<std::uint64_t>(),
+                                   step["notifications_expected"].get<std::uint64_t>(), step["cpu_us_per_record"].get<double>(),
+                                   1e6 * step["subscribers_cpu_s"].get<double>() / std::max<double>(1, step["records"].get<double>()),
+                                   step["wall_s"].get<double>());
+        }
+      }
+      if (!s.json_path.empty()) std::ofstream(s.json_path) << json{{"wheeltecd", steps}, {"bounded_relay", relay_steps}}.dump(2) << "\n";
+      fs::remove_all(dir);
+      return 0;
     } else {
       SubscriberSet one(socket, 1);
       const RateRun idle = run_at_rate(20.0, s.idle_s, one, chassis, daemon.pid());

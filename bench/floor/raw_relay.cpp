@@ -11,7 +11,10 @@
 // backpressure: a floor, not a product. By default a subscriber that lags makes the relay
 // block; with --bounded-backlog it follows the daemon's rule instead (non-blocking writes,
 // at most 64 KiB queued per client, new telemetry dropped and counted above that), so
-// that the two can be compared where subscribers fall behind.
+// that the two can be compared where subscribers fall behind. With --frame-fd N it reads
+// the frames (struct can_frame) from the inherited socket N instead of a raw CAN socket: the
+// native fan-out benchmark feeds it through a SOCK_SEQPACKET socket where there is no CAN.
+#include <fcntl.h>
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
@@ -53,21 +56,8 @@ void write_all(int fd, const char* data, std::size_t size) {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  std::string interface = "vcan0", socket_path;
-  bool bounded = false;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--bounded-backlog") == 0) bounded = true;
-    else if (i + 1 < argc && std::strcmp(argv[i], "--interface") == 0) interface = argv[++i];
-    else if (i + 1 < argc && std::strcmp(argv[i], "--socket") == 0) socket_path = argv[++i];
-  }
-  if (socket_path.empty()) {
-    std::fprintf(stderr, "usage: wheeltec-bench-floor --socket PATH [--interface vcan0] [--bounded-backlog]\n");
-    return 2;
-  }
-
+// Kernel-filtered to the telemetry IDs, with the kernel's drop count and wheeltecd's receive buffer.
+int open_can_socket(const std::string& interface) {
   const int can = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK, CAN_RAW);
   if (can < 0) fail("CAN socket");
   can_filter filters[3];
@@ -86,6 +76,29 @@ int main(int argc, char** argv) {
   if (can_address.can_ifindex == 0 || ::bind(can, reinterpret_cast<sockaddr*>(&can_address), sizeof(can_address)) != 0) {
     fail(interface.c_str());
   }
+  return can;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string interface = "vcan0", socket_path;
+  bool bounded = false;
+  int frame_fd = -1;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--bounded-backlog") == 0) bounded = true;
+    else if (i + 1 < argc && std::strcmp(argv[i], "--frame-fd") == 0) frame_fd = std::atoi(argv[++i]);
+    else if (i + 1 < argc && std::strcmp(argv[i], "--interface") == 0) interface = argv[++i];
+    else if (i + 1 < argc && std::strcmp(argv[i], "--socket") == 0) socket_path = argv[++i];
+  }
+  if (socket_path.empty()) {
+    std::fprintf(stderr,
+                 "usage: wheeltec-bench-floor --socket PATH [--interface vcan0 | --frame-fd N] [--bounded-backlog]\n");
+    return 2;
+  }
+
+  const int can = frame_fd >= 0 ? frame_fd : open_can_socket(interface);
+  if (::fcntl(can, F_SETFL, ::fcntl(can, F_GETFL) | O_NONBLOCK) != 0) fail("frame socket");
 
   const int listener = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK, 0);
   sockaddr_un address{};

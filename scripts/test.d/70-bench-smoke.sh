@@ -12,10 +12,12 @@ install_packages libbenchmark-dev
 
 # The main build may have been configured before Google Benchmark was installed.
 cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -DWHEELTEC_BUILD_BENCHMARKS=ON >/dev/null
-cmake --build "$BUILD_DIR" --target wheeltec-microbench wheeltec-bench-e2e wheeltec-bench-floor -j"${BUILD_JOBS:-2}"
+cmake --build "$BUILD_DIR" --target wheeltec-microbench wheeltec-bench-fanout wheeltec-bench-e2e wheeltec-bench-floor \
+  -j"${BUILD_JOBS:-2}"
 
 out=$(mktemp)
-trap 'rm -f "$out"' EXIT
+fanout=$(mktemp)
+trap 'rm -f "$out" "$fanout"' EXIT
 "$BUILD_DIR/bench/wheeltec-microbench" --benchmark_min_time=0.01 --benchmark_format=json >"$out"
 python3 - "$out" <<'PY'
 import json, sys
@@ -32,3 +34,16 @@ if errors or missing:
 print(f"bench smoke: {len(runs)} microbenchmarks ran")
 PY
 "$BUILD_DIR/bench/wheeltec-bench-e2e" --help >/dev/null
+
+# The fan-out benchmark's shortest run: both gateways deliver telemetry to their subscribers.
+"$BUILD_DIR/bench/wheeltec-bench-fanout" --step-s 0.2 --max-rate 500 --floor "$BUILD_DIR/bench/wheeltec-bench-floor" \
+  --json "$fanout" >/dev/null
+python3 - "$fanout" <<'PY'
+import json, sys
+f = json.load(open(sys.argv[1]))
+for name in ("wheeltecd", "floor"):
+    step = f[name]["steps"][0]
+    if step["notifications_received"] == 0:
+        sys.exit(f"bench smoke: the fan-out benchmark's {name} delivered no notification: {step}")
+print("bench smoke: fan-out benchmark ran (wheeltecd and relay floor delivered telemetry)")
+PY
