@@ -22,8 +22,8 @@ class LineClient {
   void send_line(std::string_view line);  // appends '\n'
   // The next line (without '\n'); throws after timeout_ms.
   std::string read_line(int timeout_ms);
-  // Reads what is available without blocking and returns how many complete lines it
-  // (and the buffer) held; the lines are discarded.
+  // Reads what is available without blocking (one recv of up to 64 KiB) and returns how
+  // many complete lines it (and the buffer) held; the lines are discarded.
   std::size_t drain_lines();
   int fd() const { return fd_; }
 
