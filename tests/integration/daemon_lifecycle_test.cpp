@@ -12,6 +12,9 @@
 #include <cstring>
 #include <cstdlib>
 
+#include <wheeltec/telemetry_group.hpp>
+#include <wheeltec/telemetry_record.hpp>
+
 #include "can_bus.hpp"
 #include "control_frames.hpp"
 #include "gateway.hpp"
@@ -191,6 +194,40 @@ TEST_F(DaemonLifecycle, ChassisGoesOfflineWhenTelemetryStopsAndComesBack) {
   while (back && (*back)["params"]["chassis"]["online"] != true) back = client.wait_notification("status", 3s);
   EXPECT_TRUE(back.has_value()) << "the chassis did not come back online";
   EXPECT_TRUE(gateway.daemon().running());
+}
+
+// Records that arrive faster than the daemon wakes up are read in batches and go to each
+// subscriber together: none may be lost, reordered or held back until the next batch.
+TEST_F(DaemonLifecycle, ABurstOfRecordsReachesEverySubscriberInOrder) {
+  gateway_ = std::make_unique<Gateway>(directory_.path(), GatewayOptions{});
+  gateway_->start_daemon();
+  ASSERT_TRUE(bus_.wait_for([](const auto& f) { return is_control_frame(f); }, 1s).has_value())
+      << "the daemon's CAN socket did not open";
+  std::vector<RpcConnection> subscribers;
+  for (int i = 0; i < 3; ++i) {
+    subscribers.push_back(gateway_->connect());
+    subscribers.back().call("subscribe", {{"topics", {"telemetry"}}});
+  }
+
+  constexpr int kRecords = 100;  // 300 frames back to back: several batches of 64
+  for (int n = 0; n < kRecords; ++n) {
+    wheeltec::RawTelemetry raw;
+    raw.vx = static_cast<std::int16_t>(n);
+    raw.accel_z = 16400;
+    raw.battery_mv = 22500;
+    for (std::size_t i = 0; i < 3; ++i) bus_.send(wheeltec::make_telemetry_group(wheeltec::encode_record(raw)).frames[i]);
+  }
+  // The last record, too, must come without waiting for another one.
+  for (std::size_t s = 0; s < subscribers.size(); ++s) {
+    for (int n = 0; n < kRecords; ++n) {
+      auto notification = subscribers[s].wait_notification("telemetry", 2s);
+      ASSERT_TRUE(notification.has_value()) << "subscriber " << s << " received " << n << " of " << kRecords;
+      const Json& record = (*notification)["params"];
+      EXPECT_EQ(record["seq"], n + 1) << record.dump();
+      EXPECT_NEAR(record["velocity"]["vx"].get<double>(), n / 1000.0, 1e-9) << "out of order: " << record.dump();
+    }
+  }
+  EXPECT_EQ(subscribers[0].call("stats")["notifications_dropped"], 0);
 }
 
 TEST_F(DaemonLifecycle, InjectedTelemetryIsDecodedAndValidated) {
