@@ -50,6 +50,7 @@ void ClientSession::send_telemetry(SharedText notification) {
 }
 
 void ClientSession::flush() {
+  if (output_.empty()) return;  // nothing queued since the last batch: most sessions, most batches
   start_write();
   output_progressed(Resume::posted);  // this may run while the sessions are being iterated
 }
