@@ -3,6 +3,8 @@
 #include <sys/stat.h>
 
 #include <chrono>
+#include <memory>
+#include <string>
 #include <utility>
 
 #include <boost/asio/post.hpp>
@@ -18,6 +20,9 @@ namespace wheeltec::daemon {
 namespace {
 
 using boost::asio::local::stream_protocol;
+
+// A telemetry notification is about 400 bytes; one allocation per record.
+constexpr std::size_t kTelemetryNotificationReserve = 512;
 
 // After accept() fails for lack of descriptors or memory, wait this long before the next
 // try instead of spinning on the same error.
@@ -91,9 +96,14 @@ bool ApiServer::has_status_subscribers() const {
   return false;
 }
 
-void ApiServer::publish_telemetry(const SharedText& notification) {
+void ApiServer::publish_telemetry(const TelemetrySample& sample) {
+  if (!has_telemetry_subscribers()) return;
+  auto notification = std::make_shared<std::string>();
+  notification->reserve(kTelemetryNotificationReserve);
+  append_telemetry_notification(*notification, sample);
+  const SharedText shared = std::move(notification);
   for (const auto& [id, session] : sessions_) {
-    if (session->state().wants_telemetry) session->send_telemetry(notification);
+    if (session->state().wants_telemetry) session->send_telemetry(shared);
   }
 }
 

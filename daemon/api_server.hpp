@@ -13,6 +13,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include "wheeltec/config.hpp"
+#include "wheeltec/telemetry_json.hpp"
 
 #include "api_counters.hpp"
 #include "client_session.hpp"
@@ -42,11 +43,11 @@ class ApiServer {
   // Stops accepting, closes every connection and removes the socket file.
   void close();
 
-  bool has_telemetry_subscribers() const;
   bool has_status_subscribers() const;
-  // Queues a telemetry notification for every subscriber; flush_telemetry() sends what
-  // was queued (once per batch of CAN frames: one send per subscriber for the batch).
-  void publish_telemetry(const SharedText& notification);
+  // Queues the record's telemetry notification (built once, shared) for every subscriber;
+  // flush_telemetry() sends what was queued (once per batch of CAN frames: one send per
+  // subscriber for the batch).
+  void publish_telemetry(const TelemetrySample& sample);
   void flush_telemetry();
   void publish_status(const SharedText& notification);
 
@@ -55,6 +56,7 @@ class ApiServer {
   void set_max_clients(int max_clients) { max_clients_ = max_clients; }
 
  private:
+  bool has_telemetry_subscribers() const;
   void accept();
   void on_accept(const boost::system::error_code& error, boost::asio::local::stream_protocol::socket socket);
   void refuse(boost::asio::local::stream_protocol::socket socket);

@@ -21,9 +21,6 @@
 namespace wheeltec::daemon {
 namespace {
 
-// A telemetry notification is about 400 bytes; one allocation per record.
-constexpr std::size_t kTelemetryNotificationReserve = 512;
-
 std::chrono::nanoseconds seconds_to_nanos(double seconds) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(seconds));
 }
@@ -82,12 +79,7 @@ void Gateway::on_bus_state(BusState state) {
 }
 
 void Gateway::on_sample(const TelemetrySample& sample) {
-  if (api_.has_telemetry_subscribers()) {
-    auto notification = std::make_shared<std::string>();
-    notification->reserve(kTelemetryNotificationReserve);
-    append_telemetry_notification(*notification, sample);
-    api_.publish_telemetry(std::move(notification));
-  }
+  api_.publish_telemetry(sample);
   status_may_have_changed();
 }
 

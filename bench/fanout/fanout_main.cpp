@@ -151,14 +151,7 @@ class DaemonPath final : public GatewayUnderTest {
     ::setsockopt(frame_socket, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on));
     frames_.assign(asio_can::raw_protocol{}, frame_socket);
     frames_.non_blocking(true);
-    // As Gateway::on_sample does.
-    chassis_.on_sample([this](const TelemetrySample& sample) {
-      if (!api_.has_telemetry_subscribers()) return;
-      auto notification = std::make_shared<std::string>();
-      notification->reserve(512);
-      append_telemetry_notification(*notification, sample);
-      api_.publish_telemetry(std::move(notification));
-    });
+    chassis_.on_sample([this](const TelemetrySample& sample) { api_.publish_telemetry(sample); });
     api_.start();
     reader_.start();
     thread_ = std::thread([this] { io_.run(); });
