@@ -35,18 +35,18 @@ void ClientSession::start() { pump(); }
 
 void ClientSession::refuse(SharedText line) {
   gone_reported_ = true;
-  enqueue(std::move(line), false);
+  enqueue(std::move(line), Kind::at_once);
   close_after_flush();
 }
 
 void ClientSession::send_status(SharedText notification) {
   if (closing_ || closed_) return;
-  enqueue(std::move(notification), false);
+  enqueue(std::move(notification), Kind::at_once);
 }
 
 void ClientSession::send_telemetry(SharedText notification) {
   if (closing_ || closed_) return;
-  enqueue(std::move(notification), true);
+  enqueue(std::move(notification), Kind::telemetry);
 }
 
 void ClientSession::flush() {
@@ -120,7 +120,10 @@ ClientSession::LinesResult ClientSession::handle_lines() {
   std::size_t handled = 0;
   LinesResult result = LinesResult::drained;
   for (;;) {
-    if (closing_ || closed_) return LinesResult::blocked;
+    if (closing_ || closed_) {
+      result = LinesResult::blocked;
+      break;
+    }
     if (above_soft_limit_) {
       read_paused_ = true;
       result = LinesResult::blocked;
@@ -146,12 +149,20 @@ ClientSession::LinesResult ClientSession::handle_lines() {
     input_.erase(0, input_begin_);
     input_begin_ = 0;
   }
+  if (handled > 0) write_responses();
   return result;
+}
+
+// The responses of one turn go out in one send: a client that pipelines requests costs
+// one system call per turn, not one per request.
+void ClientSession::write_responses() {
+  start_write();
+  output_progressed(Resume::posted);  // this runs while the input is being handled
 }
 
 void ClientSession::handle_line(std::string_view line) {
   if (auto response = handler_.handle_line(state_, line)) {
-    enqueue(std::make_shared<const std::string>(std::move(*response)), false);
+    enqueue(std::make_shared<const std::string>(std::move(*response)), Kind::response);
   }
 }
 
@@ -163,7 +174,7 @@ void ClientSession::refuse_long_line() {
   input_.shrink_to_fit();
   input_begin_ = 0;
   const rpc::Error error{rpc::kInvalidRequest, fmt::format("line exceeds {} bytes", rpc::kMaxLineBytes), nullptr};
-  enqueue(std::make_shared<const std::string>(rpc::encode_error(error)), false);
+  enqueue(std::make_shared<const std::string>(rpc::encode_error(error)), Kind::at_once);
   report_gone();
   close_after_flush();
 }
@@ -176,13 +187,15 @@ void ClientSession::end_of_input() {
     input_.clear();
     input_begin_ = 0;
     handle_line(rest);
+    write_responses();
   }
   report_gone();
   close_after_flush();
 }
 
-bool ClientSession::enqueue(SharedText text, bool telemetry) {
+bool ClientSession::enqueue(SharedText text, Kind kind) {
   if (closed_) return false;
+  const bool telemetry = kind == Kind::telemetry;
   const std::size_t size = text->size();
   if (telemetry && above_soft_limit_) {
     // Not an entry being written, nor one already written in part.
@@ -206,7 +219,7 @@ bool ClientSession::enqueue(SharedText text, bool telemetry) {
   output_.push_back(Outgoing{std::move(text), telemetry});
   backlog_bytes_ += size;
   backlog_changed();
-  if (!telemetry) {
+  if (kind == Kind::at_once) {
     start_write();
     output_progressed(Resume::posted);  // this may run while a request is being handled
   }

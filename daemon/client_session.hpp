@@ -15,7 +15,8 @@
 //  - kSlowTimeout (5 s): a backlog that stays above the soft limit this long also
 //    disconnects the client (clients_disconnected_slow).
 //  - kLinesPerTurn (32): request lines handled per turn; the next turn is posted to the
-//    io_context, so that one client flooding requests does not starve the others.
+//    io_context, so that one client flooding requests does not starve the others. The
+//    responses of a turn are written together at its end.
 //  - Lines longer than rpc::kMaxLineBytes (64 KiB) get one -32600 error, after which the
 //    connection is closed; the input buffer never holds more than that plus one read.
 //    Before the close, up to kLingerMaxBytes more input are read and dropped for at most
@@ -87,6 +88,9 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
     bool telemetry = false;
   };
 
+  // When a queued message is written: at once, with the other responses of the turn, or
+  // with the other telemetry of the CAN batch (flush()).
+  enum class Kind { at_once, response, telemetry };
   enum class LinesResult { drained, yielded, blocked };
   enum class Resume { at_once, posted };  // how reading paused by backpressure is resumed
 
@@ -97,10 +101,11 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   // Handles the complete lines of the input buffer, at most kLinesPerTurn of them.
   LinesResult handle_lines();
   void handle_line(std::string_view line);
+  void write_responses();
   void refuse_long_line();
   void end_of_input();
 
-  bool enqueue(SharedText text, bool telemetry);
+  bool enqueue(SharedText text, Kind kind);
   void start_write();
   void gather_write_buffers();
   // Removes what a write took from the front of output_ (a message may be taken in part).

@@ -109,17 +109,23 @@ class ResilienceClients : public SharedGatewayTest {
 
   Json stats() { return gateway().connect().call("stats"); }
 
-  // Control frames over `duration`: at least the count 20 Hz gives, never two periods apart.
-  // A pause during which the emulator's telemetry (another process) paused too means the
-  // whole machine did not run (a loaded CI host, User-Mode Linux): reported, not counted.
+  // Control frames over `duration`: about the count 20 Hz gives, never two periods apart.
+  // The emulator's telemetry (another process, 20 Hz) is the reference for how much the
+  // machine ran (a loaded CI host, User-Mode Linux): a pause of the control frames counts
+  // less the time the emulator's telemetry was late during it, and the count expected is
+  // that of the records the emulator managed to send.
   static void expect_steady_control_frames(CanBus& bus, std::chrono::milliseconds duration, const char* during) {
+    constexpr double kTelemetryPeriodS = 0.05;
     bus.discard_pending();
     const auto frames = bus.collect([](const auto& f) { return is_control_frame(f) || is_telemetry_frame(f); }, duration);
     std::vector<WallClock::time_point> control;
     std::vector<WallClock::time_point> telemetry;
-    for (const auto& frame : frames) (is_control_frame(frame.frame) ? control : telemetry).push_back(frame.time);
+    std::size_t records = 0;  // a record's last frame is 0x103
+    for (const auto& frame : frames) {
+      (is_control_frame(frame.frame) ? control : telemetry).push_back(frame.time);
+      if (is_telemetry_frame(frame.frame) && frame.frame.id == 0x103) ++records;
+    }
     double widest = 0;
-    bool machine_stalled = false;
     for (std::size_t i = 1; i < control.size(); ++i) {
       const double gap = seconds_between(control[i - 1], control[i]);
       if (gap <= 2 * kControlPeriodS + kSlackS) continue;
@@ -131,18 +137,16 @@ class ResilienceClients : public SharedGatewayTest {
         previous = time;
       }
       telemetry_gap = std::max(telemetry_gap, seconds_between(previous, control[i]));
+      const double counted = gap - std::max(0.0, telemetry_gap - kTelemetryPeriodS);
       std::cout << "control frames paused " << gap << " s " << during << "; the emulator's telemetry paused "
-                << telemetry_gap << " s meanwhile\n";
-      if (telemetry_gap > 2 * kControlPeriodS + kSlackS) {
-        machine_stalled = true;
-      } else {
-        widest = std::max(widest, gap);
-      }
+                << telemetry_gap << " s meanwhile; counted " << counted << " s\n";
+      widest = std::max(widest, counted);
     }
     const double seconds = std::chrono::duration<double>(duration).count();
-    if (!machine_stalled) {
-      EXPECT_GE(control.size(), static_cast<std::size_t>(seconds * 20 * 0.85)) << "control frames " << during;
-    }
+    std::cout << control.size() << " control frames and " << records << " telemetry records in " << seconds << " s "
+              << during << "\n";
+    const double expected = std::min(seconds * 20, static_cast<double>(records));
+    EXPECT_GE(control.size(), static_cast<std::size_t>(expected * 0.85)) << "control frames " << during;
     EXPECT_LE(widest, 2 * kControlPeriodS + kSlackS) << "control frames stalled " << during;
   }
 
@@ -173,13 +177,23 @@ TEST_F(ResilienceClients, FloodingClientGetsEveryAnswerAndStarvesNoOne) {
   bystander.call("subscribe", {{"topics", {"telemetry"}}});
   bystander.notifications().clear();
 
-  constexpr int kRequests = 20000;
+  // The flood lasts as long as the checks made during it, however fast the daemon answers.
+  constexpr int kRequestsPerWrite = 1000;
   RawClient flooder(gateway().socket_path());
+  std::atomic<bool> flooding{true};
+  std::atomic<std::size_t> requests_sent{0};
+  std::atomic<bool> writer_done{false};
   std::atomic<std::size_t> lines_read{0};
+  std::thread writer([&] {
+    const std::string requests = repeated_request("version", kRequestsPerWrite);
+    while (flooding && flooder.write_all(requests)) requests_sent += kRequestsPerWrite;
+    flooding = false;
+    writer_done = true;
+  });
   std::thread reader([&] {
     char buffer[65536];
-    const auto deadline = SteadyClock::now() + 30s;
-    while (lines_read < static_cast<std::size_t>(kRequests) && SteadyClock::now() < deadline) {
+    const auto deadline = SteadyClock::now() + 60s;
+    while ((!writer_done || lines_read < requests_sent) && SteadyClock::now() < deadline) {
       pollfd ready{flooder.fd(), POLLIN, 0};
       if (::poll(&ready, 1, 1000) <= 0) continue;
       const ssize_t n = ::read(flooder.fd(), buffer, sizeof(buffer));
@@ -187,23 +201,20 @@ TEST_F(ResilienceClients, FloodingClientGetsEveryAnswerAndStarvesNoOne) {
       lines_read += static_cast<std::size_t>(std::count(buffer, buffer + n, '\n'));
     }
   });
-  std::thread writer([&] { flooder.write_all(repeated_request("version", kRequests)); });
 
   const auto asked = SteadyClock::now();
   EXPECT_EQ(bystander.call("version")["protocol"], 1);
   EXPECT_LT(std::chrono::duration<double>(SteadyClock::now() - asked).count(), 0.25)
       << "another client's request waited behind the flood";
   expect_steady_control_frames(bus, 1500ms, "while a client floods requests");
-
   std::vector<std::int64_t> seqs;
-  const auto flood_deadline = SteadyClock::now() + 30s;
-  while (lines_read < static_cast<std::size_t>(kRequests) && SteadyClock::now() < flood_deadline) {
-    read_telemetry(bystander, seqs, 200ms);
-  }
-  read_telemetry(bystander, seqs, 200ms);
+  read_telemetry(bystander, seqs, 1500ms);
+  const bool flooded_throughout = flooding.exchange(false);
   writer.join();
   reader.join();
-  EXPECT_EQ(lines_read.load(), static_cast<std::size_t>(kRequests)) << "the flooding client lost responses";
+  EXPECT_TRUE(flooded_throughout) << "the flooding client's connection ended during the flood";
+  std::cout << requests_sent.load() << " requests flooded in about 3 s\n";
+  EXPECT_EQ(lines_read.load(), requests_sent.load()) << "the flooding client lost responses";
   expect_contiguous(seqs, 25, "while a client flooded requests");
   EXPECT_TRUE(gateway().daemon().running());
 }
