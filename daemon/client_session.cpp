@@ -52,7 +52,8 @@ void ClientSession::send_telemetry(SharedText notification) {
 void ClientSession::flush() {
   if (output_.empty()) return;  // nothing queued since the last batch: most sessions, most batches
   start_write();
-  output_progressed(Resume::posted);  // this may run while the sessions are being iterated
+  // Posted: this runs inside loops over sessions, requests or lines.
+  output_progressed(Resume::posted);
 }
 
 void ClientSession::close() {
@@ -149,15 +150,10 @@ ClientSession::LinesResult ClientSession::handle_lines() {
     input_.erase(0, input_begin_);
     input_begin_ = 0;
   }
-  if (handled > 0) write_responses();
+  // The responses of one turn go out in one send: a client that pipelines requests costs
+  // one system call per turn, not one per request.
+  if (handled > 0) flush();
   return result;
-}
-
-// The responses of one turn go out in one send: a client that pipelines requests costs
-// one system call per turn, not one per request.
-void ClientSession::write_responses() {
-  start_write();
-  output_progressed(Resume::posted);  // this runs while the input is being handled
 }
 
 void ClientSession::handle_line(std::string_view line) {
@@ -187,7 +183,7 @@ void ClientSession::end_of_input() {
     input_.clear();
     input_begin_ = 0;
     handle_line(rest);
-    write_responses();
+    flush();
   }
   report_gone();
   close_after_flush();
@@ -219,10 +215,7 @@ bool ClientSession::enqueue(SharedText text, Kind kind) {
   output_.push_back(Outgoing{std::move(text), telemetry});
   backlog_bytes_ += size;
   backlog_changed();
-  if (kind == Kind::at_once) {
-    start_write();
-    output_progressed(Resume::posted);  // this may run while a request is being handled
-  }
+  if (kind == Kind::at_once) flush();
   return true;
 }
 

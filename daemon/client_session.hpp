@@ -73,8 +73,9 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   // A telemetry notification (shared by all subscribers); queued until flush(), and
   // coalesced when the client lags.
   void send_telemetry(SharedText notification);
-  // Writes the queued telemetry: called once per batch of CAN frames, so that the records of
-  // one batch go to the client in one send.
+  // Writes what is queued. Called once per batch of CAN frames, so that the records of one
+  // batch go to the client in one send; also after each turn of requests and for a message
+  // written at once.
   void flush();
 
   // Closes the connection now, without flushing (daemon shutdown).
@@ -101,7 +102,6 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   // Handles the complete lines of the input buffer, at most kLinesPerTurn of them.
   LinesResult handle_lines();
   void handle_line(std::string_view line);
-  void write_responses();
   void refuse_long_line();
   void end_of_input();
 
