@@ -32,6 +32,7 @@ ControlLoop::ControlLoop(boost::asio::io_context& io, CanLink& link, const Gatew
       config_(config),
       arbiter_(seconds_to_nanos(config.control.command_timeout_s)),
       period_timer_(io),
+      stall_sentinel_(link.interface(), StallSentinel::timing_for_rate(config.control.rate_hz)),
       enable_timer_(io),
       deadman_timer_(io) {
   period_timer_.on_tick([this] { on_period(); });
@@ -83,6 +84,7 @@ void ControlLoop::start() {
   started_ = true;
   // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
   send_control();
+  stall_sentinel_.start();
   if (config_.control.auto_enable) enable();
 }
 
@@ -131,6 +133,7 @@ void ControlLoop::enable() {
   send_enable(true);
   send_control();
   start_periodic();
+  beat_stall_sentinel();
   start_enable_refresh();
   if (change_handler_) change_handler_();
 }
@@ -145,6 +148,7 @@ void ControlLoop::disable() {
   send_control();
   send_enable(false);
   period_timer_.stop();
+  stall_sentinel_.disarm();
   enable_timer_.cancel();
   enabled_ = false;
   if (was_enabled) spdlog::info("control disabled");
@@ -178,6 +182,7 @@ void ControlLoop::link_came_up() {
 
 void ControlLoop::shutdown() {
   period_timer_.stop();
+  stall_sentinel_.disarm();
   enable_timer_.cancel();
   cancel_deadman();
   arbiter_.stop();
@@ -211,6 +216,11 @@ void ControlLoop::on_period() {
   // this one first: a lapsed target must not go out in a periodic frame. Without an owner
   // there is no deadline, and no need to read the clock.
   if (!arbiter_.deadline() || !release_if_lapsed()) send_control();
+  beat_stall_sentinel();
+}
+
+void ControlLoop::beat_stall_sentinel() {
+  stall_sentinel_.beat(encode_control_frame(config_.can.dialect, ControlCommand{}).id);
 }
 
 void ControlLoop::start_enable_refresh() {

@@ -13,6 +13,7 @@
 
 #include "can_link.hpp"
 #include "periodic_timer.hpp"
+#include "stall_sentinel.hpp"
 
 namespace wheeltec::daemon {
 
@@ -29,7 +30,8 @@ struct DriveResult {
 // frame every 1/rate_hz while enabled plus one at once when the target changes, the
 // enable frame when control becomes enabled and every enable_refresh_s (manual dialect),
 // the first control frame zero, ownership and the deadman (a timer at the owner's deadline,
-// no polling), zero then disable on shutdown.
+// no polling), zero then disable on shutdown; and, while control is enabled, a zero frame
+// that a process of its own sends if the daemon stops sending (StallSentinel).
 class ControlLoop {
  public:
   using ChangeHandler = std::function<void()>;  // enabled, owner or target changed
@@ -70,6 +72,8 @@ class ControlLoop {
   void send_enable(bool enable);
   void start_periodic();
   void on_period();
+  // Tells the stall sentinel that a control period went out.
+  void beat_stall_sentinel();
   void start_enable_refresh();
   void arm_enable_timer();
   void arm_deadman();
@@ -90,6 +94,7 @@ class ControlLoop {
   Clock::duration enable_refresh_{};
   Clock::time_point next_enable_{};
   PeriodicTimer period_timer_;
+  StallSentinel stall_sentinel_;
   boost::asio::steady_timer enable_timer_;
   boost::asio::steady_timer deadman_timer_;
   bool deadman_waiting_ = false;  // a wait of deadman_timer_ is under way

@@ -140,6 +140,35 @@ TEST_F(ResilienceSafety, SigkillRestartStartsWithZeroAndNeverResumesTheOldTarget
   EXPECT_TRUE(client.request("drive", {{"vx", 0.1}}).contains("result")) << "the restarted daemon must accept drive";
 }
 
+// A hung daemon (SIGSTOP, as a stuck event loop or a starved process would be) sends
+// nothing, and the chassis has no command timeout of its own. The daemon's stall sentinel
+// sends zero in its place within 1 s, and keeps sending zero at the control rate until the
+// daemon resumes.
+TEST_F(ResilienceSafety, HungDaemonIsStoppedWithinOneSecond) {
+  Gateway& gateway = start_gateway();
+  CanBus bus(test_interface());
+  auto client = gateway.connect();
+  drive_until_seen(client, bus);
+  bus.discard_pending();
+  gateway.daemon().send_signal(SIGSTOP);
+  const auto hung = WallClock::now();
+  const auto frames = bus.collect(is_any_control_frame, 1500ms);
+  gateway.daemon().send_signal(SIGCONT);
+
+  expect_zero_then_only_zero(frames, hung, 1.0, "hung daemon");
+  const auto zero = std::find_if(frames.begin(), frames.end(), [](const auto& f) { return is_zero_control_frame(f.frame); });
+  if (zero != frames.end()) {
+    const double window = seconds_between(hung, zero->time);
+    std::cout << "hang-to-zero window: " << window << " s\n";
+    const double zero_for = seconds_between(zero->time, frames.back().time);
+    EXPECT_GE(static_cast<double>(frames.end() - zero), zero_for / kControlPeriodS * 0.8)
+        << "the sentinel's zero frames must repeat at the control rate while the daemon is stopped";
+  }
+  // Resumed, the daemon serves again; its owner's deadline passed while it was stopped.
+  const Json status = client.call("status");
+  EXPECT_TRUE(status.contains("uptime_s")) << status.dump();
+}
+
 TEST_F(ResilienceSafety, LinkDownWhileDrivingReleasesControlAndResumesWithZero) {
   const std::string interface = test_interface();
   Gateway& gateway = start_gateway();

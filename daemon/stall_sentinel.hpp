@@ -1,0 +1,67 @@
+#pragma once
+
+#include <sys/types.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+namespace wheeltec::daemon {
+
+// A small process of the daemon's own that sends the zero control frame when the daemon
+// stops sending control frames: a hung event loop, a SIGSTOP, a daemon starved of CPU. A
+// frozen process can send nothing, and a thread of it would freeze with it; the chassis has
+// no command timeout, so without this a hung daemon leaves it driving until the watchdog
+// has killed and restarted the daemon (seconds).
+//
+// The daemon counts its control periods in memory shared with the sentinel (no system
+// call); the sentinel looks every `poll` and, once the count has not moved for `delay`
+// while armed, sends the zero frame on its own CAN socket every `repeat` until the count
+// moves again. It dies with the daemon (PR_SET_PDEATHSIG) and holds none of its files.
+class StallSentinel {
+ public:
+  struct Timing {
+    std::chrono::milliseconds delay;
+    std::chrono::milliseconds repeat;
+    std::chrono::milliseconds poll;
+  };
+
+  StallSentinel(std::string interface, Timing timing);
+  ~StallSentinel();  // stops the sentinel process
+  StallSentinel(const StallSentinel&) = delete;
+  StallSentinel& operator=(const StallSentinel&) = delete;
+
+  // Forks the sentinel process; once. False (with a warning logged) if it cannot.
+  bool start();
+
+  // A control period went out; `zero_frame_id` is the ID the zero frame must use (dialect).
+  void beat(std::uint32_t zero_frame_id) noexcept {
+    if (!shared_) return;
+    shared_->zero_frame_id.store(zero_frame_id, std::memory_order_relaxed);
+    shared_->beats.fetch_add(1, std::memory_order_release);
+  }
+  // Nothing to guard (control disabled, daemon stopping): the sentinel stays quiet.
+  void disarm() noexcept {
+    if (shared_) shared_->zero_frame_id.store(0, std::memory_order_release);
+  }
+
+  // Also the sentinel's timing for `rate_hz` control frames per second.
+  static Timing timing_for_rate(double rate_hz);
+
+ private:
+  struct Shared {
+    std::atomic<std::uint64_t> beats{0};
+    std::atomic<std::uint32_t> zero_frame_id{0};  // 0: disarmed
+  };
+  static_assert(std::atomic<std::uint64_t>::is_always_lock_free, "shared between processes");
+
+  [[noreturn]] static void run(Shared& shared, const std::string& interface, Timing timing, pid_t daemon);
+
+  std::string interface_;
+  Timing timing_;
+  Shared* shared_ = nullptr;
+  pid_t pid_ = -1;
+};
+
+}  // namespace wheeltec::daemon
