@@ -11,7 +11,10 @@ install(FILES systemd/wheeltecd.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR}
 install(FILES systemd/80-wheeltec-can.network DESTINATION ${WHEELTEC_NETWORKD_DIR})
 # Absolute: the unit and the daemon's default look for /etc/wheeltecd/wheeltecd.json.
 set(WHEELTEC_CONFIG_DIR "/etc/wheeltecd" CACHE PATH "directory of wheeltecd.json")
-install(FILES config/wheeltecd.json DESTINATION ${WHEELTEC_CONFIG_DIR})
+# The installed configuration is config/wheeltecd.json (every key at its built-in default)
+# but for one key: api.control_groups lets the group `wheeltec` drive, so that
+# `sudo usermod -aG wheeltec $USER` is all a new owner needs (docs/deploy.md).
+install(FILES packaging/wheeltecd.json DESTINATION ${WHEELTEC_CONFIG_DIR})
 
 # Man pages and changelog compressed as Debian wants them (gzip -n: reproducible).
 find_program(GZIP_PROGRAM gzip REQUIRED)

@@ -8,6 +8,9 @@ readonly WHEELTEC_DEBIAN_PACKAGES=(
   libboost-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libsystemd-dev
   can-utils iproute2 kmod user-mode-linux socat
+  # the systemd suite (tests/systemd, scripts/systemd-uml): systemd as PID 1 in UML,
+  # cpack's .deb installed with dpkg, users made with useradd/usermod, runuser, jq
+  systemd dpkg-dev adduser passwd util-linux jq
 )
 
 # Prints the packages among the arguments that are not installed.

@@ -5,7 +5,7 @@
 set -euo pipefail
 : "${REPO_ROOT:?}" "${BUILD_DIR:?}"
 source "$REPO_ROOT/scripts/lib/setup.sh"
-install_packages dpkg-dev lintian groff-base
+install_packages dpkg-dev lintian groff-base jq
 
 cmake --build "$BUILD_DIR" -j "${BUILD_JOBS:-2}"
 rm -f "$BUILD_DIR"/wheeltec-gateway_*.deb
@@ -38,12 +38,20 @@ work=$(mktemp -d)
 trap 'rm -rf -- "$work"' EXIT
 dpkg-deb -e "$deb" "$work/control"
 grep -qxF /etc/wheeltecd/wheeltecd.json "$work/control/conffiles" || fail "the config is not a conffile"
+# The shipped conffile is the defaults file but for api.control_groups = ["wheeltec"].
+dpkg-deb --fsys-tarfile "$deb" | tar -xO ./etc/wheeltecd/wheeltecd.json >"$work/shipped.json"
+[[ $(jq -S 'del(.api.control_groups)' "$work/shipped.json") == $(jq -S 'del(.api.control_groups)' "$REPO_ROOT/config/wheeltecd.json") ]] ||
+  fail "the shipped wheeltecd.json differs from config/wheeltecd.json in more than api.control_groups"
+[[ $(jq -c .api.control_groups "$work/shipped.json") == '["wheeltec"]' ]] ||
+  fail "the shipped wheeltecd.json does not let the group wheeltec drive"
 grep -q '^Depends:.*adduser' "$work/control/control" || fail "Depends lacks adduser"
 grep -q 'adduser --system' "$work/control/postinst" || fail "postinst does not create the system user"
 if grep -v '^[[:space:]]*#' "$work/control/postinst" | grep -Eq 'systemctl (--[a-z-]+ )*enable|deb-systemd-helper enable'; then
   fail "postinst enables the service"
 fi
 for script in postinst prerm postrm; do sh -n "$work/control/$script" || fail "$script: syntax error"; done
+grep -q 'deb-systemd-invoke restart' "$work/control/postinst" || fail "postinst does not restart the service on upgrade"
+grep -q 'purge' "$work/control/postrm" || fail "postrm does not handle purge"
 
 # The man pages render without warnings.
 dpkg-deb -x "$deb" "$work/root"
