@@ -1,0 +1,70 @@
+#pragma once
+
+// The daemon's telemetry record and status object as typed values (docs/api.md).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace wheeltec::client {
+
+using Json = nlohmann::json;
+
+struct Velocity {
+  double vx = 0.0;  // m/s
+  double vy = 0.0;  // m/s
+  double wz = 0.0;  // rad/s
+};
+
+struct Vector3 {
+  double x = 0.0;
+  double y = 0.0;
+  double z = 0.0;
+};
+
+struct Pose2D {
+  double x = 0.0;    // m
+  double y = 0.0;    // m
+  double yaw = 0.0;  // rad, (-pi, pi]
+};
+
+struct Orientation {
+  double w = 1.0, x = 0.0, y = 0.0, z = 0.0;  // unit quaternion
+  double roll = 0.0, pitch = 0.0, yaw = 0.0;  // rad
+};
+
+struct Telemetry {
+  std::uint64_t seq = 0;
+  double time = 0.0;  // seconds since the epoch
+  bool stopped = false;
+  Velocity velocity;
+  Vector3 accel;  // m/s^2
+  Vector3 gyro;   // rad/s
+  double battery_voltage = 0.0;
+  bool battery_low = false;
+  Pose2D odom;
+  std::optional<Orientation> orientation;  // protocol 2 and later
+};
+
+struct Status {
+  std::string bus_state;  // "up", "down", "error-passive", "bus-off"
+  bool online = false;
+  std::optional<std::string> phase;  // "booting", "self-test", "ready", "halted"; empty while offline
+  bool commands_ignored = false;
+  bool stopped = false;
+  double battery_voltage = 0.0;
+  bool battery_low = false;
+  bool control_enabled = false;
+  std::optional<std::uint64_t> owner;  // id of the client holding control
+  Velocity target;
+  Json json;  // the whole object, for fields not typed here
+};
+
+// Throw nlohmann::json::exception when a field the API guarantees is missing or mistyped.
+Telemetry telemetry_from_json(const Json& record);
+Status status_from_json(const Json& status);
+Json to_json(const Velocity& velocity);
+
+}  // namespace wheeltec::client
