@@ -63,8 +63,26 @@ std::string chassis_text(const Json& chassis) {
   } else {
     text += "offline";
   }
+  const Json& phase = member_or_null(chassis, "phase");
+  if (phase.is_string()) text += ", " + phase.get<std::string>();
   const Json& stopped = member_or_null(chassis, "stopped");
   if (stopped.is_boolean()) text += stopped.get<bool>() ? ", motors stopped" : ", motors enabled";
+  const Json& ignored = member_or_null(chassis, "commands_ignored");
+  if (ignored.is_boolean() && ignored.get<bool>()) text += ", COMMANDS IGNORED (check can.dialect)";
+  return text;
+}
+
+std::string dock_text(const Json& dock) {
+  const Json& present = member_or_null(dock, "present");
+  if (!present.is_boolean()) return std::string(kUnknown);
+  if (!present.get<bool>()) return "not present";
+  const Json& charging = member_or_null(dock, "charging");
+  std::string text = charging.is_boolean() ? (charging.get<bool>() ? "charging" : "present, not charging")
+                                           : std::string("present, charging ?");
+  text += ", IR receivers ";
+  const Json& ir = member_or_null(dock, "ir");
+  if (!ir.is_array()) return text + std::string(kUnknown);
+  for (const Json& receiver : ir) text += receiver.is_boolean() ? (receiver.get<bool>() ? '1' : '0') : '?';
   return text;
 }
 
@@ -117,6 +135,7 @@ std::string format_status(const Json& status) {
                       string_text(member_or_null(bus, "state")));
   text += fmt::format("chassis:  {}\n", chassis_text(chassis));
   text += fmt::format("battery:  {}\n", battery_text(chassis));
+  if (const Json* dock = find_member(status, "dock")) text += fmt::format("dock:     {}\n", dock_text(*dock));
   text += fmt::format("control:  {}\n", control_text(control));
   text += fmt::format("target:   {}\n", velocity_text(member_or_null(control, "target")));
   return text;
@@ -138,6 +157,11 @@ std::string format_telemetry_line(const Json& record) {
       signed_number_text(member_or_null(odom, "x"), 3),
       signed_number_text(member_or_null(odom, "y"), 3),
       signed_number_text(member_or_null(odom, "yaw"), 3));
+  if (const Json* orientation = find_member(record, "orientation")) {
+    line += fmt::format("  attitude roll {} pitch {} yaw {}", signed_number_text(member_or_null(*orientation, "roll"), 3),
+                        signed_number_text(member_or_null(*orientation, "pitch"), 3),
+                        signed_number_text(member_or_null(*orientation, "yaw"), 3));
+  }
   const Json& low = member_or_null(battery, "low");
   if (low.is_boolean() && low.get<bool>()) line += "  LOW BATTERY";
   const Json& stopped = member_or_null(record, "stopped");

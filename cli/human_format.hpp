@@ -12,10 +12,12 @@ namespace wheeltecctl {
 
 using Json = nlohmann::ordered_json;
 
-// Multi-line aligned block: daemon, bus, chassis, battery, control, target. Ends in '\n'.
+// Multi-line aligned block: daemon, bus, chassis (with its phase and a warning when it
+// ignores commands), battery, dock (when the daemon reports one), control, target. Ends in '\n'.
 std::string format_status(const Json& status);
 
-// One line per telemetry record: seq, velocities, battery, odometry. No '\n'.
+// One line per telemetry record: seq, velocities, battery, odometry, attitude (when the
+// record has one). No '\n'.
 std::string format_telemetry_line(const Json& record);
 
 // One "name value" line per leaf, nested objects flattened as "a.b", names padded to

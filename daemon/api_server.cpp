@@ -21,8 +21,8 @@ namespace {
 
 using boost::asio::local::stream_protocol;
 
-// A telemetry notification is about 400 bytes; one allocation per record.
-constexpr std::size_t kTelemetryNotificationReserve = 512;
+// A telemetry notification is about 550 bytes with its orientation; one allocation per record.
+constexpr std::size_t kTelemetryNotificationReserve = 768;
 
 // After accept() fails for lack of descriptors or memory, wait this long before the next
 // try instead of spinning on the same error.

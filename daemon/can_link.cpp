@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/charging_dock.hpp"
 #include "wheeltec/telemetry_reassembler.hpp"
 
 namespace wheeltec::daemon {
@@ -28,8 +29,9 @@ constexpr int kReceiveBufferBytes = 4 * 1024 * 1024;
 // RTR frames on them can be counted as discards) and as 29-bit frames carrying exactly the
 // same number (counted as extended_id discards), plus error frames of every class. Each
 // filter includes CAN_EFF_FLAG in its mask, so a 29-bit frame whose low 11 bits merely
-// happen to be 0x101 does not pass.
-using TelemetryFilters = asio_can::option::filters<6>;
+// happen to be 0x101 does not pass. And the auto-recharge dock's reports (standard 0x182),
+// which the gateway keeps apart from telemetry reassembly.
+using TelemetryFilters = asio_can::option::filters<7>;
 
 TelemetryFilters telemetry_filters() {
   TelemetryFilters filters;
@@ -37,6 +39,7 @@ TelemetryFilters telemetry_filters() {
     filters.add(id, CAN_SFF_MASK | CAN_EFF_FLAG);
     filters.add(id | CAN_EFF_FLAG, CAN_EFF_MASK | CAN_EFF_FLAG);
   }
+  filters.add(kDockReportId, CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG);
   return filters;
 }
 

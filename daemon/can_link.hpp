@@ -24,7 +24,7 @@ enum class BusState { up, down, error_passive, bus_off };
 std::string_view to_string(BusState state);  // "up", "down", "error-passive", "bus-off"
 
 struct CanLinkCounters {
-  std::uint64_t frames_received = 0;  // telemetry-ID frames that passed the kernel filter
+  std::uint64_t frames_received = 0;  // frames that passed the kernel filter (telemetry IDs, the dock's 0x182)
   std::uint64_t frames_sent = 0;
   std::uint64_t send_errors = 0;      // frames the kernel did not take (ENOBUFS, EAGAIN, ENETDOWN...)
   std::uint64_t error_frames = 0;
@@ -32,7 +32,8 @@ struct CanLinkCounters {
 };
 
 // The daemon's raw CAN socket on one interface: kernel filters (IDs 0x101-0x103, as standard
-// frames or exactly that 29-bit ID, so that malformed telemetry can be counted; error frames),
+// frames or exactly that 29-bit ID, so that malformed telemetry can be counted; the dock's
+// standard 0x182 data frames; error frames),
 // kernel receive timestamps, non-blocking sends.
 // The interface may be absent or down at start, go down, disappear and come back: the
 // link reports the state and reopens by itself, at once when rtnetlink reports the interface

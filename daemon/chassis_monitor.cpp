@@ -22,6 +22,9 @@ void ChassisMonitor::accept(const AssembledRecord& assembled) {
   sample.battery_low = sample.record.battery_v < low_battery_v_;
   odometry_.update(sample.record.velocity, assembled.time);
   sample.odom = odometry_.pose();
+  attitude_.update({assembled.time, sample.record.stopped, sample.record.velocity, sample.record.accel,
+                    sample.record.gyro});
+  sample.orientation = attitude_.orientation();
   latest_ = sample;
   latest_steady_ = std::chrono::steady_clock::now();
 
@@ -29,6 +32,7 @@ void ChassisMonitor::accept(const AssembledRecord& assembled) {
   // calls and an extra turn at telemetry rate); when it fires it re-arms for what is left.
   if (!offline_timer_armed_) arm_offline_timer(offline_deadline());
   set_online(true);
+  set_stage(phase_tracker_.update({assembled.time, sample.record.stopped, sample.record.velocity}));
   if (sample_handler_) sample_handler_(*latest_);
 }
 
@@ -55,6 +59,10 @@ void ChassisMonitor::arm_offline_timer(std::chrono::steady_clock::time_point exp
 void ChassisMonitor::set_online(bool online) {
   if (online == online_) return;
   online_ = online;
+  if (!online) {
+    phase_tracker_.went_offline();
+    set_stage(std::nullopt);
+  }
   if (online) {
     spdlog::debug("chassis online (telemetry record {})", seq_);
   } else {
@@ -63,11 +71,22 @@ void ChassisMonitor::set_online(bool online) {
   if (online_handler_) online_handler_(online);
 }
 
+void ChassisMonitor::set_stage(std::optional<ChassisStage> stage) {
+  if (stage == stage_) return;
+  const auto previous = stage_;
+  stage_ = stage;
+  if (stage_handler_) stage_handler_(previous, stage);
+}
+
 void ChassisMonitor::link_lost() { reassembler_.reset(); }
 
 void ChassisMonitor::reset_odometry() {
   odometry_.reset();
-  if (latest_) latest_->odom = odometry_.pose();
+  attitude_.reset_yaw();
+  if (latest_) {
+    latest_->odom = odometry_.pose();
+    latest_->orientation = attitude_.orientation();
+  }
 }
 
 void ChassisMonitor::set_timeout(std::chrono::nanoseconds timeout) {

@@ -34,6 +34,7 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
       started_(std::chrono::steady_clock::now()),
       link_(io, config_.can.interface),
       chassis_(io, seconds_to_nanos(config_.telemetry.timeout_s), config_.telemetry.low_battery_v),
+      dock_(io),
       control_(io, link_, config_),
       rpc_(control_, chassis_, config_.chassis.type, api_counters_, [this] { return status_json(); },
            [this] { return stats_json(); }),
@@ -42,11 +43,15 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
       notifier_(io) {}
 
 void Gateway::start() {
-  link_.on_frame([this](const asio_can::ReceivedFrame& received) { chassis_.feed(received.frame, received.time); });
+  link_.on_frame([this](const asio_can::ReceivedFrame& received) {
+    if (!dock_.feed(received.frame)) chassis_.feed(received.frame, received.time);
+  });
   link_.on_batch_handled([this] { api_.flush_telemetry(); });
   link_.on_state([this](BusState state) { on_bus_state(state); });
   chassis_.on_sample([this](const TelemetrySample& sample) { on_sample(sample); });
   chassis_.on_online([this](bool online) { on_online(online); });
+  chassis_.on_stage([this](auto previous, auto stage) { on_stage(previous, stage); });
+  dock_.on_change([this] { status_may_have_changed(); });
   control_.on_change([this] { status_may_have_changed(); });
   api_.on_client_gone([this](ClientId id) {
     if (!stopping_) control_.client_gone(id);
@@ -80,12 +85,66 @@ void Gateway::on_bus_state(BusState state) {
 
 void Gateway::on_sample(const TelemetrySample& sample) {
   api_.publish_telemetry(sample);
+  check_command_response(sample);
   status_may_have_changed();
 }
 
 void Gateway::on_online(bool online) {
   if (online) control_.chassis_came_online();
+  if (!online) command_response_.reset();
   status_may_have_changed();
+}
+
+void Gateway::on_stage(std::optional<ChassisStage> previous, std::optional<ChassisStage> stage) {
+  if (!stage) {
+    spdlog::info("chassis phase unknown: offline");
+    return;
+  }
+  switch (*stage) {
+    case ChassisStage::booting:
+      if (previous) {
+        spdlog::warn("chassis controller rebooted (flag_stop set after a telemetry gap): booting");
+      } else {
+        spdlog::info("chassis phase booting (flag_stop set)");
+      }
+      break;
+    case ChassisStage::self_test_awaited:
+      spdlog::info("chassis phase self-test: boot over, watching for the controller's own drive");
+      break;
+    case ChassisStage::self_test_driving:
+      spdlog::warn("chassis self-test: the controller drives forward by itself (2 s at 0.2 m/s, about 0.4 m)");
+      break;
+    case ChassisStage::ready:
+      spdlog::info("chassis phase ready");
+      break;
+    case ChassisStage::halted:
+      spdlog::warn("chassis halted: flag_stop set outside boot (enable switch off, low voltage or a protection)");
+      break;
+  }
+  // The firmware stores a command received now and runs it after its self-test: nothing
+  // but zero may be left standing.
+  const ChassisPhase phase = phase_of(*stage);
+  if (phase == ChassisPhase::booting || phase == ChassisPhase::self_test) {
+    if (control_.owner() || control_.target() != Velocity{}) {
+      spdlog::warn("chassis {}: target zeroed and control released", to_string(phase));
+    }
+    control_.stop();
+  }
+}
+
+void Gateway::check_command_response(const TelemetrySample& sample) {
+  const CommandResponse before = command_response_.state();
+  const CommandResponse now = command_response_.update(control_.target(), sample.record.stopped,
+                                                       sample.record.velocity, sample.time);
+  if (now == before) return;
+  if (now == CommandResponse::ignored) {
+    spdlog::warn("the chassis ignores the drive commands: no motion after {:g} s of commanding it with flag_stop clear; "
+                 "likely cause: can.dialect ({}) does not match the firmware (try the other dialect)",
+                 std::chrono::duration<double>(CommandResponseMonitor::kPatience).count(),
+                 to_string(config_.can.dialect));
+  } else if (before == CommandResponse::ignored) {
+    spdlog::info("the chassis {}", now == CommandResponse::followed ? "follows the commands again" : "is no longer commanded to move");
+  }
 }
 
 void Gateway::status_may_have_changed() {
@@ -107,6 +166,9 @@ StatusFields Gateway::status_fields() const {
     fields.battery_v = round_battery_v(latest->record.battery_v);
     fields.battery_low = latest->battery_low;
   }
+  fields.phase = chassis_.phase();
+  fields.commands_ignored = command_response_.commands_ignored();
+  if (const auto& dock = dock_.report()) fields.dock = DockStatus{dock->charging, dock->ir};
   fields.control_enabled = control_.enabled();
   fields.owner = control_.owner();
   fields.target = control_.target();

@@ -6,6 +6,7 @@
 #include <boost/asio/signal_set.hpp>
 #include <nlohmann/json.hpp>
 
+#include "wheeltec/command_response.hpp"
 #include "wheeltec/config.hpp"
 
 #include "access_config.hpp"
@@ -14,6 +15,7 @@
 #include "can_link.hpp"
 #include "chassis_monitor.hpp"
 #include "control_loop.hpp"
+#include "dock_monitor.hpp"
 #include "options.hpp"
 #include "rpc_handler.hpp"
 #include "status_report.hpp"
@@ -34,6 +36,8 @@ class Gateway {
   void on_bus_state(BusState state);
   void on_sample(const TelemetrySample& sample);
   void on_online(bool online);
+  void on_stage(std::optional<ChassisStage> previous, std::optional<ChassisStage> stage);
+  void check_command_response(const TelemetrySample& sample);
   void status_may_have_changed();
   StatusFields status_fields() const;
   std::string status_line() const;  // for systemd's STATUS=
@@ -52,6 +56,8 @@ class Gateway {
   ApiCounters api_counters_;
   CanLink link_;
   ChassisMonitor chassis_;
+  DockMonitor dock_;
+  CommandResponseMonitor command_response_;
   ControlLoop control_;
   RpcHandler rpc_;
   ApiServer api_;

@@ -16,6 +16,16 @@ bool is_blank(std::string_view line) {
   return line.find_first_not_of(" \t\r") == std::string_view::npos;
 }
 
+std::string_view not_ready_reason(ChassisPhase phase) {
+  switch (phase) {
+    case ChassisPhase::booting: return "the chassis controller is booting and ignores commands";
+    case ChassisPhase::self_test: return "the chassis controller is running its self-test drive";
+    case ChassisPhase::halted: return "the chassis is halted (flag_stop: enable switch off or a protection)";
+    case ChassisPhase::ready: break;
+  }
+  return "the chassis is not ready";
+}
+
 json topics_of(const ClientState& client) {
   json topics = json::array();
   if (client.wants_telemetry) topics.push_back(rpc::kTopicTelemetry);
@@ -98,6 +108,10 @@ RpcHandler::Outcome RpcHandler::drive(ClientState& client, const rpc::Request& r
   if (auto error = require_control_permission(client, request)) return *std::move(error);
   auto params = rpc::parse_drive_params(request, chassis_type_);
   if (auto* error = std::get_if<rpc::Error>(&params)) return std::move(*error);
+  if (const auto phase = chassis_.phase(); phase && !obeys_commands(*phase)) {
+    return rpc::Error{rpc::kChassisNotReady, std::string(not_ready_reason(*phase)), request.id,
+                      json{{"phase", to_string(*phase)}}};
+  }
 
   const DriveResult result = control_.drive(client.id, std::get<Velocity>(params));
   switch (result.outcome) {

@@ -17,6 +17,15 @@ json optional_json(const std::optional<T>& value) {
   return value ? json(*value) : json(nullptr);
 }
 
+json phase_json(const std::optional<ChassisPhase>& phase) {
+  return phase ? json(to_string(*phase)) : json(nullptr);
+}
+
+json dock_json(const std::optional<DockStatus>& dock) {
+  if (!dock) return json{{"present", false}};
+  return json{{"present", true}, {"charging", dock->charging}, {"ir", dock->ir}};
+}
+
 }  // namespace
 
 double round_battery_v(double volts) { return round_to(volts, 100.0); }
@@ -35,7 +44,10 @@ json status_to_json(const StatusIdentity& identity, const StatusFields& fields, 
         {"telemetry_age_s", optional_json(telemetry_age_s)},
         {"stopped", optional_json(fields.stopped)},
         {"battery_v", optional_json(fields.battery_v)},
-        {"battery_low", optional_json(fields.battery_low)}}},
+        {"battery_low", optional_json(fields.battery_low)},
+        {"phase", phase_json(fields.phase)},
+        {"commands_ignored", fields.commands_ignored}}},
+      {"dock", dock_json(fields.dock)},
       {"control",
        {{"enabled", fields.control_enabled},
         {"owner", optional_json(fields.owner)},

@@ -1,16 +1,25 @@
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
+#include "wheeltec/chassis_phase.hpp"
 #include "wheeltec/control_arbiter.hpp"
 #include "wheeltec/types.hpp"
 
 #include "can_link.hpp"
 
 namespace wheeltec::daemon {
+
+// What the status object says of a present dock.
+struct DockStatus {
+  bool charging = false;
+  std::array<bool, 4> ir{};
+  friend bool operator==(const DockStatus&, const DockStatus&) = default;
+};
 
 // The status fields whose change is announced to status subscribers: everything but
 // uptime_s and telemetry_age_s. Cheap to build and compare on every record.
@@ -20,6 +29,9 @@ struct StatusFields {
   std::optional<bool> stopped;
   std::optional<double> battery_v;  // rounded to 0.01 V
   std::optional<bool> battery_low;
+  std::optional<ChassisPhase> phase;  // empty while offline
+  bool commands_ignored = false;
+  std::optional<DockStatus> dock;     // empty while no dock is present
   bool control_enabled = false;
   std::optional<ClientId> owner;
   Velocity target;

@@ -7,6 +7,7 @@
 
 #include "can_socket.hpp"
 #include "wheeltec/asio_can/frame_io.hpp"
+#include "wheeltec/charging_dock.hpp"
 
 namespace wheeltec::emulator {
 
@@ -20,6 +21,12 @@ constexpr auto kRebootOffTime = std::chrono::milliseconds(500);
 constexpr int kMaxFramesPerWakeup = 256;
 // Behind by more than this (the process was stopped), timers restart from now instead of catching up.
 constexpr auto kMaxLag = std::chrono::seconds(1);
+// How often the emulated charging dock reports on 0x182 (the firmware's recharge task
+// reads the latest report every 20 ms; the dock's own rate is not in the firmware).
+constexpr auto kDockReportPeriod = std::chrono::milliseconds(100);
+// The robot sits on the dock facing away from it: the two middle receivers see the beacon.
+constexpr ChargingDockState kDockedState{.approach_x = 0, .approach_z = 0, .charging = true,
+                                         .ir = {false, true, true, false}};
 
 template <class Duration>
 Duration from_seconds(double seconds) {
@@ -32,9 +39,11 @@ EmulatorSettings model_settings(const EmulatorOptions& options, std::uint32_t se
   settings.dialect = options.dialect;
   settings.ackermann_z = options.ackermann_z;
   settings.geometry = options.geometry;
-  settings.wheel.encoder_lines = options.encoder_lines;
-  settings.wheel.gear_ratio = options.gear_ratio;
+  settings.wheel = options.wheel;
   settings.boot_delay = from_seconds<Nanos>(options.boot_delay_s);
+  settings.self_test = options.self_test;
+  settings.tilt = options.tilt;
+  settings.supply = options.supply;
   settings.battery_v = options.battery_v;
   settings.seed = seed;
   return settings;
@@ -74,6 +83,7 @@ CanChassis::CanChassis(boost::asio::io_context& io, const EmulatorOptions& optio
       telemetry_timer_(io),
       reopen_timer_(io),
       reboot_timer_(io),
+      dock_timer_(io),
       seed_(seed),
       telemetry_period_(from_seconds<Clock::duration>(1.0 / options.telemetry_hz)) {}
 
@@ -95,6 +105,7 @@ std::optional<std::string> CanChassis::start() {
     });
   }
   if (model_.booting()) spdlog::info("booting: motors off, flag_stop 1 for {} s", options_.boot_delay_s);
+  if (options_.supply == PowerSupply::charging_dock) start_dock();
   return std::nullopt;
 }
 
@@ -124,11 +135,28 @@ void CanChassis::advance_model() {
   if (!powered_) return;
   const AdvanceEvents events = model_.advance_to(Clock::now() - power_on_);
   if (events.boot_finished) spdlog::info("boot finished: motors on, flag_stop 0");
+  if (events.self_test_started) spdlog::info("self-test: driving forward at 0.2 m/s for 2 s, then 0.3 s zero");
+  if (events.self_test_finished) spdlog::info("self-test finished: obeying commands");
   if (events.kept_command_applied) {
     const ControlCommand& c = model_.command();
-    spdlog::info("CAN control taken (0x181): acting on the command received during boot, X {} Y {} Z {}", c.x, c.y,
-                 c.z);
+    spdlog::info("acting on the command received during boot or self-test, X {} Y {} Z {}", c.x, c.y, c.z);
   }
+}
+
+// The dock answers the controller's probe, then reports every kDockReportPeriod.
+void CanChassis::start_dock() {
+  spdlog::info("charging dock on the bus: 0x182 every {} ms, charging, IR receivers 2 and 3 see the beacon",
+               std::chrono::duration_cast<std::chrono::milliseconds>(kDockReportPeriod).count());
+  send(dock_probe_frame());
+  send(dock_probe_frame());
+  on_dock_period({});
+}
+
+void CanChassis::on_dock_period(const boost::system::error_code& ec) {
+  if (ec) return;
+  if (socket_.is_open()) send(encode_charging_dock_frame(kDockedState));
+  dock_timer_.expires_after(kDockReportPeriod);
+  dock_timer_.async_wait([this](const boost::system::error_code& e) { on_dock_period(e); });
 }
 
 void CanChassis::on_control_period(const boost::system::error_code& ec) {

@@ -40,6 +40,8 @@ class CanChassis {
   void note_link_working();
   void lose_interface(const boost::system::error_code& ec);
   void on_reopen(const boost::system::error_code& ec);
+  void start_dock();
+  void on_dock_period(const boost::system::error_code& ec);
   void power_off();
   void power_on();
 
@@ -51,6 +53,7 @@ class CanChassis {
   boost::asio::steady_timer telemetry_timer_;
   boost::asio::steady_timer reopen_timer_;
   boost::asio::steady_timer reboot_timer_;
+  boost::asio::steady_timer dock_timer_;
   std::uint32_t seed_;
   Clock::time_point started_;
   Clock::time_point power_on_;

@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "model_selection.hpp"
 #include "wheeltec/version.hpp"
 
 namespace wheeltec::emulator {
@@ -44,10 +45,40 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
   const std::map<std::string, ChassisType> chassis_types{
       {"diff", ChassisType::diff},   {"ackermann", ChassisType::ackermann}, {"mecanum", ChassisType::mecanum},
       {"omni", ChassisType::omni},   {"tank", ChassisType::tank},           {"4wd", ChassisType::four_wd}};
-  std::string chassis = "mecanum";
-  app.add_option("--chassis", chassis, "chassis type: diff, ackermann, mecanum, omni, tank, 4wd")
-      ->check(CLI::IsMember(chassis_types))
-      ->capture_default_str();
+  std::string chassis;
+  CLI::Option* chassis_option =
+      app.add_option("--chassis", chassis,
+                     "chassis type: diff, ackermann, mecanum, omni, tank, 4wd (default: that of the model; "
+                     "without --model, the type's Mini model; mecanum)")
+          ->check(CLI::IsMember(chassis_types));
+  std::string model_name;
+  CLI::Option* model_option =
+      app.add_option("--model", model_name, "robot model of the firmware's table (see --list-models; default mini_mec)");
+  bool list_models = false;
+  app.add_flag("--list-models", list_models, "print the robot models, one a line, and exit");
+  bool no_self_test = false;
+  app.add_flag("--no-self-test", no_self_test,
+               "leave out the controller's own 2 s drive at 0.2 m/s after boot (obey at once)");
+  std::string tilt;
+  app.add_option("--tilt", tilt, "the chassis stands tilted: ROLL,PITCH in degrees (roll lifts the left side, "
+                                 "pitch lowers the nose)")
+      ->type_name("ROLL,PITCH")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return parse_tilt_degrees(text) ? std::string{} : "expected ROLL,PITCH in degrees with |ROLL| <= 180 "
+                                                             "and |PITCH| <= 90, got " + text;
+          },
+          ""));
+  bool dock = false;
+  app.add_flag("--dock", dock, "a WHEELTEC auto-recharge dock is on the bus too, charging the robot (0x182 frames)");
+  std::string replay_file;
+  CLI::Option* replay_option =
+      app.add_option("--replay", replay_file, "instead of emulating, send the frames of this candump -L log at their "
+                                              "recorded timing")
+          ->check(CLI::Validator(CLI::ExistingFile).description(""))
+          ->type_name("FILE");
+  bool loop = false;
+  app.add_flag("--loop", loop, "with --replay: again and again")->needs(replay_option);
   std::string dialect = "manual";
   app.add_option("--dialect", dialect, "CAN dialect: manual (0x121 with enable frame) or 0x181")
       ->check(CLI::IsMember({"manual", "0x181"}))
@@ -58,7 +89,7 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
                  "C50X firmware)")
       ->check(CLI::IsMember({"yaw_rate", "steering_angle"}))
       ->capture_default_str();
-  // Geometry: the chassis type's Mini-model defaults unless given.
+  // Geometry: the model's unless given.
   struct GeometryFlag {
     const char* flag;
     double ChassisGeometry::*field;
@@ -66,15 +97,12 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
     std::optional<double> value;
   };
   std::array<GeometryFlag, 6> geometry_flags{{
-      {"--wheel-diameter", &ChassisGeometry::wheel_diameter, "wheel diameter, m (default 0.065)", {}},
-      {"--track", &ChassisGeometry::track,
-       "distance between left and right wheels, m (default per type: diff 0.177, ackermann 0.162, mecanum and "
-       "4wd 0.186, tank 0.235)",
-       {}},
-      {"--wheelbase", &ChassisGeometry::wheelbase, "front to rear axle, m (default 0.144; mecanum and 4wd 0.170)", {}},
-      {"--omni-radius", &ChassisGeometry::omni_radius, "omni: wheel to chassis centre, m (default 0.1)", {}},
-      {"--min-turn-radius", &ChassisGeometry::min_turn_radius, "Ackermann: minimum turning radius, m (default 0.35)",
-       {}},
+      {"--wheel-diameter", &ChassisGeometry::wheel_diameter, "wheel diameter, m (default: the model's)", {}},
+      {"--track", &ChassisGeometry::track, "distance between left and right wheels, m (default: the model's)", {}},
+      {"--wheelbase", &ChassisGeometry::wheelbase, "front to rear axle, m (default: the model's)", {}},
+      {"--omni-radius", &ChassisGeometry::omni_radius, "omni: wheel to chassis centre, m (default: the model's)", {}},
+      {"--min-turn-radius", &ChassisGeometry::min_turn_radius,
+       "Ackermann: minimum turning radius, m (default: the model's)", {}},
       {"--max-steering-angle", &ChassisGeometry::max_steering_angle,
        "Ackermann: largest front-wheel angle, rad (default 0.5)", {}},
   }};
@@ -85,14 +113,16 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
         ->check(finite_in(0.0, 100.0, zero_allowed))
         ->group("Geometry");
   }
-  app.add_option("--encoder-lines", options.encoder_lines, "encoder lines per motor turn")
-      ->check(CLI::Range(1, 100000))
-      ->capture_default_str()
-      ->group("Geometry");
-  app.add_option("--gear-ratio", options.gear_ratio, "motor turns per wheel turn")
-      ->check(CLI::Range(1, 100000))
-      ->capture_default_str()
-      ->group("Geometry");
+  int encoder_lines = 0;
+  CLI::Option* encoder_option =
+      app.add_option("--encoder-lines", encoder_lines, "encoder lines per motor turn (default: the model's)")
+          ->check(CLI::Range(1, 100000))
+          ->group("Geometry");
+  double gear_ratio = 0.0;
+  CLI::Option* gear_option =
+      app.add_option("--gear-ratio", gear_ratio, "motor turns per wheel turn (default: the model's)")
+          ->check(finite_in(1.0, 100000.0))
+          ->group("Geometry");
   app.add_option("--boot-delay", options.boot_delay_s, "seconds with flag_stop = 1 and motors off after start")
       ->check(finite_in(0.0, 86400.0))
       ->capture_default_str();
@@ -142,13 +172,34 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
     std::cerr << "wheeltec-emu: " << e.what() << " (see --help)\n";
     return EarlyExit{2};
   }
-  options.chassis = chassis_types.at(chassis);
+  if (list_models) {
+    for (const RobotModel& model : robot_models()) std::cout << describe(model) << '\n';
+    return EarlyExit{0};
+  }
+  const std::optional<ChassisType> chassis_type =
+      *chassis_option ? std::optional(chassis_types.at(chassis)) : std::nullopt;
+  const std::variant<const RobotModel*, std::string> selected =
+      select_model(*model_option ? std::optional<std::string>(model_name) : std::nullopt, chassis_type);
+  if (const auto* error = std::get_if<std::string>(&selected)) {
+    std::cerr << "wheeltec-emu: " << *error << '\n';
+    return EarlyExit{2};
+  }
+  options.model = std::get<const RobotModel*>(selected);
+  options.chassis = options.model->type;
   options.dialect = *parse_dialect(dialect);
   options.ackermann_z = *parse_ackermann_z(ackermann_z);
-  options.geometry = default_geometry(options.chassis);
+  options.geometry = options.model->geometry;
   for (const GeometryFlag& geometry : geometry_flags) {
     if (geometry.value) options.geometry.*geometry.field = *geometry.value;
   }
+  options.wheel = wheel_parameters(*options.model);
+  options.wheel.wheel_diameter = options.geometry.wheel_diameter;
+  if (*encoder_option) options.wheel.encoder_lines = encoder_lines;
+  if (*gear_option) options.wheel.gear_ratio = gear_ratio;
+  if (no_self_test) options.self_test = SelfTest::skip;
+  if (!tilt.empty()) options.tilt = *parse_tilt_degrees(tilt);
+  if (dock) options.supply = PowerSupply::charging_dock;
+  if (*replay_option) options.replay = ReplayOptions{replay_file, loop ? ReplayRepeat::forever : ReplayRepeat::once};
   if (*reboot) options.reboot_after_s = reboot_after;
   if (*silent) options.silent_after_s = silent_after;
   if (*seed_option) options.seed = seed;

@@ -1,24 +1,39 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <variant>
 
+#include "wheeltec/chassis_emulator.hpp"
 #include "wheeltec/kinematics.hpp"
+#include "wheeltec/robot_models.hpp"
 #include "wheeltec/telemetry_group.hpp"
 #include "wheeltec/types.hpp"
+#include "wheeltec/wheel_controller.hpp"
 
 namespace wheeltec::emulator {
 
+enum class ReplayRepeat { once, forever };
+
+// --replay FILE [--loop]: send a candump log instead of emulating.
+struct ReplayOptions {
+  std::filesystem::path file;
+  ReplayRepeat repeat = ReplayRepeat::once;
+};
+
 struct EmulatorOptions {
   std::string interface = "vcan0";
+  const RobotModel* model = &mini_model(ChassisType::mecanum);
   ChassisType chassis = ChassisType::mecanum;
   Dialect dialect = Dialect::manual;
   AckermannZ ackermann_z = AckermannZ::yaw_rate;
-  ChassisGeometry geometry = default_geometry(ChassisType::mecanum);  // of `chassis`, with the flags applied
-  int encoder_lines = 13;
-  int gear_ratio = 30;
+  ChassisGeometry geometry = model->geometry;  // of the model, with the flags applied
+  WheelParameters wheel = wheel_parameters(*model);  // encoder, gears and PI gains likewise
+  SelfTest self_test = SelfTest::drive;
+  ChassisTilt tilt;
+  PowerSupply supply = PowerSupply::battery;  // charging_dock: --dock
   double boot_delay_s = 10.0;
   double telemetry_hz = 20.0;
   double battery_v = 12.0;  // a 3S pack, as on the Mini models; pass 22.2 or so for 24 V chassis
@@ -27,10 +42,11 @@ struct EmulatorOptions {
   std::optional<double> reboot_after_s;
   std::string log_level = "info";
   std::optional<std::uint32_t> seed;  // empty: a random seed, logged at start
+  std::optional<ReplayOptions> replay;
 };
 
-// The exit status when the program should end right away (after --help, --version or a
-// usage error, which has been printed as one line naming the cause).
+// The exit status when the program should end right away (after --help, --version,
+// --list-models or a usage error, which has been printed as one line naming the cause).
 struct EarlyExit {
   int status = 0;
 };

@@ -1,7 +1,10 @@
 #include <csignal>
 #include <cstdint>
+#include <fstream>
 #include <iostream>
+#include <memory>
 #include <random>
+#include <sstream>
 #include <variant>
 
 #include <boost/asio/io_context.hpp>
@@ -11,12 +14,58 @@
 
 #include "can_chassis.hpp"
 #include "emulator_options.hpp"
+#include "log_replay.hpp"
+#include "wheeltec/candump_log.hpp"
 #include "wheeltec/version.hpp"
 
-int main(int argc, char** argv) {
-  using namespace wheeltec;
-  using namespace wheeltec::emulator;
+namespace {
 
+using namespace wheeltec;
+using namespace wheeltec::emulator;
+
+constexpr int kUsageError = 2;
+
+// The whole log, validated before anything is sent; or the exit status after the error.
+std::variant<CandumpLog, int> read_log(const ReplayOptions& replay) {
+  std::ifstream file(replay.file, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (!file) {
+    std::cerr << "wheeltec-emu: " << replay.file.string() << ": cannot read\n";
+    return 1;
+  }
+  auto parsed = parse_candump_log(text.str());
+  if (const auto* error = std::get_if<CandumpLogError>(&parsed)) {
+    std::cerr << "wheeltec-emu: " << replay.file.string() << ":" << error->line << ": " << error->reason << '\n';
+    return kUsageError;
+  }
+  return std::get<CandumpLog>(std::move(parsed));
+}
+
+void log_settings(const EmulatorOptions& options, std::uint32_t seed) {
+  spdlog::info("wheeltec-emu {} on {}: model {} ({} chassis, from {}), {} dialect, telemetry {} Hz, battery {} V, "
+               "seed {}",
+               kVersion, options.interface, options.model->name, to_string(options.chassis),
+               to_string(options.model->source), to_string(options.dialect), options.telemetry_hz, options.battery_v,
+               seed);
+  const ChassisGeometry& g = options.geometry;
+  const WheelParameters& w = options.wheel;
+  spdlog::info("geometry: wheel diameter {} m, track {} m, wheelbase {} m, omni radius {} m; encoder {} lines, "
+               "gear {}:1, PI {}/{}",
+               g.wheel_diameter, g.track, g.wheelbase, g.omni_radius, w.encoder_lines, w.gear_ratio, w.kp, w.ki);
+  if (options.chassis == ChassisType::ackermann) {
+    spdlog::info("Ackermann Z is a {} (minimum turning radius {} m, steering limit {:.3f} rad)",
+                 to_string(options.ackermann_z), g.min_turn_radius, ackermann_steering_limit(g));
+  }
+  if (options.tilt.roll != 0.0 || options.tilt.pitch != 0.0) {
+    spdlog::info("tilted: roll {:.4f} rad, pitch {:.4f} rad", options.tilt.roll, options.tilt.pitch);
+  }
+  if (options.self_test == SelfTest::skip) spdlog::info("no self-test drive: obeying as soon as boot ends");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
   auto parsed = parse_command_line(argc, argv);
   if (const auto* early = std::get_if<EarlyExit>(&parsed)) return early->status;
   const EmulatorOptions& options = std::get<EmulatorOptions>(parsed);
@@ -27,24 +76,26 @@ int main(int argc, char** argv) {
     logger->set_level(spdlog::level::from_str(options.log_level));
     spdlog::set_default_logger(logger);
 
-    const std::uint32_t seed = options.seed.value_or(std::random_device{}());
-
     boost::asio::io_context io;
-    CanChassis chassis(io, options, seed);
-    if (const auto error = chassis.start()) {
-      std::cerr << "wheeltec-emu: " << *error << '\n';
-      return 1;
-    }
-    spdlog::info("wheeltec-emu {} on {}: {} chassis, {} dialect, telemetry {} Hz, battery {} V, seed {}", kVersion,
-                 options.interface, to_string(options.chassis), to_string(options.dialect), options.telemetry_hz,
-                 options.battery_v, seed);
-    const ChassisGeometry& g = options.geometry;
-    spdlog::info("geometry: wheel diameter {} m, track {} m, wheelbase {} m, omni radius {} m; encoder {} lines, "
-                 "gear {}:1",
-                 g.wheel_diameter, g.track, g.wheelbase, g.omni_radius, options.encoder_lines, options.gear_ratio);
-    if (options.chassis == ChassisType::ackermann) {
-      spdlog::info("Ackermann Z is a {} (minimum turning radius {} m, steering limit {:.3f} rad)",
-                   to_string(options.ackermann_z), g.min_turn_radius, ackermann_steering_limit(g));
+    std::unique_ptr<LogReplay> replay;
+    std::unique_ptr<CanChassis> chassis;
+    if (options.replay) {
+      auto log = read_log(*options.replay);
+      if (const int* status = std::get_if<int>(&log)) return *status;
+      replay = std::make_unique<LogReplay>(io, options.interface, std::get<CandumpLog>(std::move(log)),
+                                           options.replay->repeat);
+      if (const auto error = replay->start()) {
+        std::cerr << "wheeltec-emu: " << *error << '\n';
+        return 1;
+      }
+    } else {
+      const std::uint32_t seed = options.seed.value_or(std::random_device{}());
+      chassis = std::make_unique<CanChassis>(io, options, seed);
+      if (const auto error = chassis->start()) {
+        std::cerr << "wheeltec-emu: " << *error << '\n';
+        return 1;
+      }
+      log_settings(options, seed);
     }
 
     boost::asio::signal_set signals(io, SIGINT, SIGTERM);

@@ -1,8 +1,9 @@
-// The CAN receive path on arbitrary frames: the reassembler, the record check, the decoder
-// and the JSON encoder. The input is a sequence of 12-byte frame descriptions (ID choice
+// The CAN receive path on arbitrary frames: the reassembler, the record check, the decoder,
+// the JSON encoder, and the dock's 0x182 report decoder. The input is a sequence of 12-byte frame descriptions (ID choice
 // and flags, DLC, time step, data), biased towards the telemetry IDs so that groups form.
 // Any crash or sanitizer report is a bug, and so is an accepted record that fails its own
-// check, does not round-trip through the encoder, or yields JSON that does not parse.
+// check, does not round-trip through the encoder, or yields JSON that does not parse, and a
+// dock report that does not round-trip through the emulator's encoder.
 
 #include <cmath>
 #include <cstddef>
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "wheeltec/can_frame.hpp"
+#include "wheeltec/dock_report.hpp"
 #include "wheeltec/telemetry_json.hpp"
 #include "wheeltec/telemetry_reassembler.hpp"
 #include "wheeltec/telemetry_record.hpp"
@@ -42,6 +44,16 @@ wheeltec::CanFrame frame_from(const std::uint8_t* in) {
   return frame;
 }
 
+void check_dock_report(const wheeltec::CanFrame& frame) {
+  const auto report = wheeltec::decode_dock_report(frame);
+  if (!report) return;
+  const auto again = wheeltec::decode_dock_report(wheeltec::encode_charging_dock_frame(*report));
+  if (!again || again->charging != report->charging || again->ir != report->ir ||
+      again->approach_x != report->approach_x || again->approach_z != report->approach_z) {
+    std::abort();
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -53,7 +65,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint8_t* in = data + offset;
     // Time steps of 0..31 ms, so that the 20 ms gap rule is crossed both ways.
     time += std::chrono::microseconds(static_cast<std::uint32_t>(in[3] & 0x1F) * 1000 + in[2]);
-    const auto record = reassembler.feed(frame_from(in), time);
+    const wheeltec::CanFrame frame = frame_from(in);
+    check_dock_report(frame);
+    const auto record = reassembler.feed(frame, time);
     if (!record) continue;
     ++accepted;
     if (wheeltec::check_record(record->bytes) != wheeltec::RecordFault::none) std::abort();

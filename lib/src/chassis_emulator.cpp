@@ -12,6 +12,9 @@ namespace {
 constexpr double kGravity = 9.8;
 constexpr double kAccelLsbPerG = 16384.0;  // MPU at +-2 g
 constexpr double kAccelLsbPerMps2Exact = kAccelLsbPerG / kGravity;
+// Lithium cells: a pack of `battery_v` has round(battery_v / 3.7) cells, full at 4.2 V each.
+constexpr double kNominalCellV = 3.7;
+constexpr double kFullCellV = 4.2;
 
 double seconds(Nanos duration) { return std::chrono::duration<double>(duration).count(); }
 
@@ -30,6 +33,7 @@ std::string_view to_string(FrameOutcome outcome) {
     case FrameOutcome::ignored_booting: return "ignored while booting";
     case FrameOutcome::ignored_not_enabled: return "ignored, CAN control not enabled";
     case FrameOutcome::kept_until_booted: return "kept until boot ends";
+    case FrameOutcome::kept_until_self_test_ends: return "kept until the self-test ends";
     case FrameOutcome::applied: return "applied";
     case FrameOutcome::control_taken: return "CAN control taken";
     case FrameOutcome::enabled: return "CAN control enabled";
@@ -45,6 +49,10 @@ ChassisEmulator::ChassisEmulator(const EmulatorSettings& settings)
       geometry_(settings.geometry.value_or(default_geometry(settings.type))),
       random_(settings.seed),
       wheel_targets_(inverse_kinematics(settings.type, geometry_, Velocity{})),
+      self_test_targets_(inverse_kinematics(settings.type, geometry_, Velocity{kSelfTestSpeed, 0.0, 0.0})),
+      zero_targets_(wheel_targets_),
+      gravity_(gravity_reaction(settings.tilt, kGravity)),
+      full_battery_v_(kFullCellV * std::max(1.0, std::round(settings.battery_v / kNominalCellV))),
       battery_v_(settings.battery_v),
       gyro_z_bias_lsb_(0.0) {
   WheelParameters wheel = settings.wheel;
@@ -58,19 +66,36 @@ ChassisEmulator::ChassisEmulator(const EmulatorSettings& settings)
 AdvanceEvents ChassisEmulator::advance_to(Nanos now) {
   AdvanceEvents events;
   while (time_ + settings_.wheel.period <= now) {
-    const bool was_booting = booting();
+    const ControllerPhase before = phase();
     run_period();
-    if (was_booting && !booting()) {
-      events.boot_finished = true;
-      if (kept_command_) {
-        under_can_control_ = true;
-        execute(*kept_command_);
-        kept_command_.reset();
-        events.kept_command_applied = true;
-      }
+    const ControllerPhase after = phase();
+    if (before == after) continue;
+    if (before == ControllerPhase::booting) events.boot_finished = true;
+    if (after == ControllerPhase::self_test_drive) events.self_test_started = true;
+    if (after == ControllerPhase::running) {
+      if (settings_.self_test == SelfTest::drive) events.self_test_finished = true;
+      start_running(events);
     }
   }
   return events;
+}
+
+void ChassisEmulator::start_running(AdvanceEvents& events) {
+  if (!kept_command_) return;
+  under_can_control_ = true;
+  execute(*kept_command_);
+  kept_command_.reset();
+  events.kept_command_applied = true;
+}
+
+const WheelSpeeds& ChassisEmulator::wheel_targets_now() const {
+  switch (phase()) {
+    case ControllerPhase::self_test_drive: return self_test_targets_;
+    case ControllerPhase::running: return wheel_targets_;
+    case ControllerPhase::booting:
+    case ControllerPhase::self_test_stop: break;
+  }
+  return zero_targets_;
 }
 
 void ChassisEmulator::sample_gyro_bias() {
@@ -81,9 +106,10 @@ void ChassisEmulator::sample_gyro_bias() {
 void ChassisEmulator::run_period() {
   const bool motors_enabled = !booting();
   if (!motors_enabled) sample_gyro_bias();
+  const WheelSpeeds& targets = wheel_targets_now();
   double load = 0.0;
   for (std::size_t i = 0; i < wheels_.size(); ++i) {
-    wheels_[i].run_period(wheel_targets_.v[i], motors_enabled);
+    wheels_[i].run_period(targets.v[i], motors_enabled);
     load += std::abs(wheels_[i].pwm()) / settings_.wheel.pwm_limit;
   }
   const double dt = seconds(settings_.wheel.period);
@@ -95,7 +121,14 @@ void ChassisEmulator::run_period() {
   last_true_velocity_ = velocity;
 
   if (!wheels_.empty()) load /= static_cast<double>(wheels_.size());
+  update_battery(load, dt);
+}
+
+void ChassisEmulator::update_battery(double load, double dt) {
   battery_v_ = std::max(0.0, battery_v_ - settings_.battery_drain_v_per_s * load * dt);
+  if (settings_.supply == PowerSupply::charging_dock && battery_v_ < full_battery_v_) {
+    battery_v_ = std::min(full_battery_v_, battery_v_ + settings_.charge_v_per_s * dt);
+  }
 }
 
 void ChassisEmulator::execute(const ControlCommand& command) {
@@ -112,6 +145,12 @@ void ChassisEmulator::execute(const ControlCommand& command) {
   wheel_targets_ = inverse_kinematics(settings_.type, geometry_, target_);
 }
 
+// Boot or self-test: the firmware stores the command and runs it once the self-test is over.
+FrameOutcome ChassisEmulator::keep(const ControlCommand& command) {
+  kept_command_ = command;
+  return booting() ? FrameOutcome::kept_until_booted : FrameOutcome::kept_until_self_test_ends;
+}
+
 FrameOutcome ChassisEmulator::handle_frame(const CanFrame& frame) {
   return settings_.dialect == Dialect::manual ? handle_manual_frame(frame) : handle_0x181_frame(frame);
 }
@@ -125,6 +164,7 @@ FrameOutcome ChassisEmulator::handle_manual_frame(const CanFrame& frame) {
       return FrameOutcome::enabled;
     }
     execute(ControlCommand{});
+    kept_command_.reset();
     if (!under_can_control_) return FrameOutcome::disable_repeated;
     under_can_control_ = false;
     return FrameOutcome::disabled;
@@ -133,6 +173,7 @@ FrameOutcome ChassisEmulator::handle_manual_frame(const CanFrame& frame) {
   if (!command) return FrameOutcome::not_a_command;
   if (booting()) return FrameOutcome::ignored_booting;
   if (!under_can_control_) return FrameOutcome::ignored_not_enabled;
+  if (phase() != ControllerPhase::running) return keep(*command);
   execute(*command);
   return FrameOutcome::applied;
 }
@@ -140,10 +181,7 @@ FrameOutcome ChassisEmulator::handle_manual_frame(const CanFrame& frame) {
 FrameOutcome ChassisEmulator::handle_0x181_frame(const CanFrame& frame) {
   const std::optional<ControlCommand> command = decode_control_frame(Dialect::id_0x181, frame);
   if (!command) return FrameOutcome::not_a_command;
-  if (booting()) {
-    kept_command_ = *command;
-    return FrameOutcome::kept_until_booted;
-  }
+  if (phase() != ControllerPhase::running) return keep(*command);
   execute(*command);
   if (under_can_control_) return FrameOutcome::applied;
   under_can_control_ = true;
@@ -154,6 +192,13 @@ Velocity ChassisEmulator::measured_velocity() const {
   WheelSpeeds speeds;
   speeds.count = wheels_.size();
   for (std::size_t i = 0; i < wheels_.size(); ++i) speeds.v[i] = wheels_[i].measured_speed();
+  return forward_kinematics(settings_.type, geometry_, speeds);
+}
+
+Velocity ChassisEmulator::take_reported_velocity() {
+  WheelSpeeds speeds;
+  speeds.count = wheels_.size();
+  for (std::size_t i = 0; i < wheels_.size(); ++i) speeds.v[i] = wheels_[i].take_mean_measured_speed();
   return forward_kinematics(settings_.type, geometry_, speeds);
 }
 
@@ -171,15 +216,15 @@ double ChassisEmulator::noise(double standard_deviation) {
 
 RawTelemetry ChassisEmulator::telemetry() {
   const SensorNoise& sigma = settings_.noise;
-  const Velocity measured = measured_velocity();
+  const Velocity measured = take_reported_velocity();
   RawTelemetry raw;
   raw.flag_stop = booting() ? 1 : 0;
   raw.vx = saturate_int16(measured.vx * 1000.0);
   raw.vy = saturate_int16(measured.vy * 1000.0);
   raw.vz = saturate_int16(measured.wz * 1000.0);
-  raw.accel_x = saturate_int16(body_acceleration_.x * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
-  raw.accel_y = saturate_int16(body_acceleration_.y * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
-  raw.accel_z = saturate_int16(kAccelLsbPerG + noise(sigma.accel_lsb));
+  raw.accel_x = saturate_int16((body_acceleration_.x + gravity_.x) * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
+  raw.accel_y = saturate_int16((body_acceleration_.y + gravity_.y) * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
+  raw.accel_z = saturate_int16(gravity_.z * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
   raw.gyro_x = saturate_int16(noise(sigma.gyro_lsb));
   raw.gyro_y = saturate_int16(noise(sigma.gyro_lsb));
   // The firmware sends gyro z as 0 while flag_stop is set (it is calibrating then),

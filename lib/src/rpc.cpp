@@ -258,8 +258,9 @@ std::string encode_result(const json& id, const json& result) {
 }
 
 std::string encode_error(const Error& error) {
-  return fmt::format("{{\"jsonrpc\":\"2.0\",\"error\":{{\"code\":{},\"message\":{}}},\"id\":{}}}\n", error.code,
-                     dump(json(error.message)), dump(error.id));
+  const std::string data = error.data.is_null() ? std::string() : ",\"data\":" + dump(error.data);
+  return fmt::format("{{\"jsonrpc\":\"2.0\",\"error\":{{\"code\":{},\"message\":{}{}}},\"id\":{}}}\n", error.code,
+                     dump(json(error.message)), data, dump(error.id));
 }
 
 std::string encode_notification(std::string_view method, const json& params) {

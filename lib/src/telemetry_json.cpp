@@ -96,6 +96,15 @@ void append_telemetry_json(std::string& out, const TelemetrySample& sample) {
   append_member(out, "},\"odom\":{\"x\":", sample.odom.x, 6);
   append_member(out, ",\"y\":", sample.odom.y, 6);
   append_member(out, ",\"yaw\":", sample.odom.yaw, 6);
+
+  const Orientation& o = sample.orientation;
+  append_member(out, "},\"orientation\":{\"w\":", o.w, 6);
+  append_member(out, ",\"x\":", o.x, 6);
+  append_member(out, ",\"y\":", o.y, 6);
+  append_member(out, ",\"z\":", o.z, 6);
+  append_member(out, ",\"roll\":", o.roll, 6);
+  append_member(out, ",\"pitch\":", o.pitch, 6);
+  append_member(out, ",\"yaw\":", o.yaw, 6);
   out += "}}";
 }
 

@@ -41,6 +41,9 @@ void WheelController::run_period(double target, bool motors_enabled) {
   encoder_fraction_ -= whole_counts;
   last_counts_ = static_cast<std::int32_t>(whole_counts);
   measured_speed_ = speed_of_counts(parameters_, last_counts_);
+  recent_counts_[recent_next_] = last_counts_;
+  recent_next_ = (recent_next_ + 1) % kMeanWindow;
+  ++periods_since_taken_;
 
   if (!motors_enabled) {
     pwm_ = 0.0;
@@ -51,6 +54,15 @@ void WheelController::run_period(double target, bool motors_enabled) {
   pwm_ += parameters_.kp * (error - last_error_) + parameters_.ki * error;
   pwm_ = std::clamp(pwm_, -parameters_.pwm_limit, parameters_.pwm_limit);
   last_error_ = error;
+}
+
+double WheelController::take_mean_measured_speed() {
+  const std::size_t reads = std::min(periods_since_taken_, kMeanWindow);
+  periods_since_taken_ = 0;
+  if (reads == 0) return measured_speed_;
+  std::int64_t counts = 0;
+  for (std::size_t back = 1; back <= reads; ++back) counts += recent_counts_[(recent_next_ + kMeanWindow - back) % kMeanWindow];
+  return speed_of_counts(parameters_, 1) * static_cast<double>(counts) / static_cast<double>(reads);
 }
 
 }  // namespace wheeltec

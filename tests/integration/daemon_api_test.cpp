@@ -27,7 +27,7 @@ class DaemonApi : public SharedGatewayTest {
     EXPECT_EQ(response["error"]["code"], code) << line << " -> " << response.dump();
     EXPECT_TRUE(response["error"]["message"].is_string() && !response["error"]["message"].get<std::string>().empty())
         << line << " -> " << response.dump();
-    EXPECT_EQ(client.call("version")["protocol"], 1) << "the connection must stay usable after: " << line;
+    EXPECT_EQ(client.call("version")["protocol"], 2) << "the connection must stay usable after: " << line;
   }
 };
 
@@ -123,7 +123,7 @@ TEST_F(DaemonApi, ManyClientsAreServedIndependently) {
   for (auto& client : clients) {
     const auto response = client.wait_response("v", 2s);
     ASSERT_TRUE(response.has_value());
-    EXPECT_EQ((*response)["result"]["protocol"], 1);
+    EXPECT_EQ((*response)["result"]["protocol"], 2);
   }
   const Json stats = clients.front().call("stats");
   EXPECT_GE(stats["clients"].get<int>(), 10) << stats.dump();

@@ -30,6 +30,9 @@ void expect_plausible_record(const Json& record) {
     EXPECT_TRUE(record["gyro"][key].is_number()) << record.dump();
   }
   for (const char* key : {"x", "y", "yaw"}) EXPECT_TRUE(record["odom"][key].is_number()) << record.dump();
+  for (const char* key : {"w", "x", "y", "z", "roll", "pitch", "yaw"}) {
+    EXPECT_TRUE(record["orientation"][key].is_number()) << record.dump();
+  }
   EXPECT_NEAR(record["accel"]["z"].get<double>(), 9.8, 0.5) << "a chassis at rest feels gravity: " << record.dump();
   EXPECT_NEAR(record["battery"]["voltage"].get<double>(), kBatteryV, 0.15) << record.dump();
   EXPECT_EQ(record["battery"]["low"], false) << record.dump();
@@ -99,13 +102,16 @@ TEST_F(DaemonTelemetry, StatusDescribesTheOnlineChassis) {
   EXPECT_TRUE(chassis["stopped"].is_boolean()) << status.dump();
   EXPECT_NEAR(chassis["battery_v"].get<double>(), kBatteryV, 0.15) << status.dump();
   EXPECT_EQ(chassis["battery_low"], false) << status.dump();
+  EXPECT_EQ(chassis["phase"], "ready") << "no boot delay, no self-test: ready at once; " << status.dump();
+  EXPECT_EQ(chassis["commands_ignored"], false) << status.dump();
+  EXPECT_EQ(status["dock"], Json({{"present", false}})) << status.dump();
   EXPECT_EQ(status["control"]["enabled"], true) << status.dump();
   EXPECT_TRUE(status["control"]["owner"].is_null()) << status.dump();
   EXPECT_EQ(status["control"]["target"], Json({{"vx", 0.0}, {"vy", 0.0}, {"wz", 0.0}})) << status.dump();
 }
 
 TEST_F(DaemonTelemetry, VersionNamesTheProtocol) {
-  EXPECT_EQ(gateway().connect().call("version"), Json({{"version", wheeltec::kVersion}, {"protocol", 1}}));
+  EXPECT_EQ(gateway().connect().call("version"), Json({{"version", wheeltec::kVersion}, {"protocol", 2}}));
 }
 
 TEST_F(DaemonTelemetry, MeasuredVelocityAndOdometryFollowDrive) {

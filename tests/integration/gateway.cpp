@@ -48,6 +48,7 @@ void Gateway::start_emulator() {
                                      "--dialect",    options_.dialect,
                                      "--boot-delay", number_text(options_.boot_delay_s),
                                      "--battery",    number_text(options_.battery_v)};
+  if (options_.self_test == EmulatorSelfTest::skip) arguments.push_back("--no-self-test");
   arguments.insert(arguments.end(), options_.emulator_arguments.begin(), options_.emulator_arguments.end());
   emulator_ = std::make_unique<ChildProcess>("wheeltec-emu-" + std::to_string(++emulator_starts_),
                                              program_path("wheeltec-emu"), arguments, directory_);

@@ -13,11 +13,16 @@
 
 namespace integration {
 
+// Whether the emulated controller runs its own 2 s drive after booting (the firmware's
+// self-test). Most tests skip it so that the chassis obeys as soon as boot ends.
+enum class EmulatorSelfTest { skip, drive };
+
 struct GatewayOptions {
   std::string chassis = "mecanum";
   std::string dialect = "manual";
   double battery_v = 22.5;
   double boot_delay_s = 0.0;
+  EmulatorSelfTest self_test = EmulatorSelfTest::skip;
   std::vector<std::string> emulator_arguments;  // extra flags, e.g. fault injection
   // Merged (RFC 7386) into the daemon's configuration file.
   nlohmann::json config_patch = nlohmann::json::object();

@@ -204,7 +204,7 @@ TEST_F(ResilienceClients, FloodingClientGetsEveryAnswerAndStarvesNoOne) {
   });
 
   const auto asked = SteadyClock::now();
-  EXPECT_EQ(bystander.call("version")["protocol"], 1);
+  EXPECT_EQ(bystander.call("version")["protocol"], 2);
   EXPECT_LT(std::chrono::duration<double>(SteadyClock::now() - asked).count(), 0.25)
       << "another client's request waited behind the flood";
   expect_steady_control_frames(bus, 1500ms, "while a client floods requests");
@@ -286,7 +286,7 @@ TEST_F(ResilienceClients, RequestsSplitAcrossWritesLoseNothing) {
     ASSERT_NE(end, std::string::npos) << "response " << id << " of 50 missing";
     const Json response = Json::parse(received.substr(start, end - start));
     EXPECT_EQ(response["id"], id) << response.dump();
-    EXPECT_EQ(response["result"]["protocol"], 1) << response.dump();
+    EXPECT_EQ(response["result"]["protocol"], 2) << response.dump();
     start = end + 1;
   }
 }

@@ -21,6 +21,7 @@ EmulatorSettings settings(ChassisType type = ChassisType::mecanum, Dialect diale
   s.type = type;
   s.dialect = dialect;
   s.boot_delay = boot_delay;
+  s.self_test = SelfTest::skip;
   return s;
 }
 

@@ -10,7 +10,9 @@ Json spec_status() {
     "bus":     { "interface": "can0", "state": "up" },
     "chassis": { "type": "mecanum", "dialect": "manual", "online": true,
                  "telemetry_age_s": 0.02, "stopped": false,
-                 "battery_v": 22.58, "battery_low": false },
+                 "battery_v": 22.58, "battery_low": false,
+                 "phase": "ready", "commands_ignored": false },
+    "dock":    { "present": false },
     "control": { "enabled": true, "owner": 3,
                  "target": { "vx": 0.2, "vy": 0.0, "wz": 0.5 } } })");
 }
@@ -21,15 +23,18 @@ Json spec_record() {
     "accel":    { "x": -0.2165, "y": -0.3361, "z": 9.8756 },
     "gyro":     { "x": -0.00133, "y": 0.00187, "z": 0.00027 },
     "battery":  { "voltage": 22.584, "low": false },
-    "odom":     { "x": 1.5, "y": -0.25, "yaw": 3.14159 } })");
+    "odom":     { "x": 1.5, "y": -0.25, "yaw": 3.14159 },
+    "orientation": { "w": 0.9952, "x": 0.0868, "y": -0.0434, "z": 0.0038,
+                     "roll": 0.17453, "pitch": -0.08727, "yaw": 0.0 } })");
 }
 
 TEST(CliHumanFormat, StatusBlockShowsEveryPart) {
   EXPECT_EQ(format_status(spec_status()),
             "daemon:   wheeltecd 0.1.0, up 12.3 s\n"
             "bus:      can0 up\n"
-            "chassis:  mecanum, dialect manual, online (telemetry 0.02 s ago), motors enabled\n"
+            "chassis:  mecanum, dialect manual, online (telemetry 0.02 s ago), ready, motors enabled\n"
             "battery:  22.58 V\n"
+            "dock:     not present\n"
             "control:  enabled, owner client 3\n"
             "target:   vx=0.200 vy=0.000 wz=0.500\n");
 }
@@ -42,6 +47,7 @@ TEST(CliHumanFormat, StatusOfOfflineChassisWithoutBatteryAndNoOwner) {
   status["chassis"]["battery_v"] = nullptr;
   status["control"]["owner"] = nullptr;
   status["control"]["enabled"] = false;
+  status["chassis"]["phase"] = nullptr;
   const std::string text = format_status(status);
   EXPECT_NE(text.find("bus:      can0 down\n"), std::string::npos) << text;
   EXPECT_NE(text.find("mecanum, dialect manual, offline, motors enabled\n"), std::string::npos)
@@ -59,6 +65,21 @@ TEST(CliHumanFormat, StatusMarksLowBatteryAndStoppedMotors) {
   EXPECT_NE(text.find("motors stopped"), std::string::npos) << text;
 }
 
+TEST(CliHumanFormat, StatusShowsPhaseIgnoredCommandsAndDock) {
+  Json status = spec_status();
+  status["chassis"]["phase"] = "self-test";
+  status["chassis"]["commands_ignored"] = true;
+  status["dock"] = Json::parse(R"({"present": true, "charging": true, "ir": [false, true, true, false]})");
+  const std::string text = format_status(status);
+  EXPECT_NE(text.find("online (telemetry 0.02 s ago), self-test, motors enabled, COMMANDS IGNORED (check can.dialect)\n"),
+            std::string::npos) << text;
+  EXPECT_NE(text.find("dock:     charging, IR receivers 0110\n"), std::string::npos) << text;
+  status["dock"]["charging"] = false;
+  EXPECT_NE(format_status(status).find("dock:     present, not charging, IR receivers 0110\n"), std::string::npos);
+  status.erase("dock");
+  EXPECT_EQ(format_status(status).find("dock:"), std::string::npos) << "a protocol 1 daemon reports no dock";
+}
+
 TEST(CliHumanFormat, StatusSurvivesMissingAndMistypedFields) {
   const std::string text = format_status(Json::parse(R"({"bus": 5, "control": {"target": "x"}})"));
   EXPECT_NE(text.find("daemon:   wheeltecd ?, up ?\n"), std::string::npos) << text;
@@ -70,7 +91,7 @@ TEST(CliHumanFormat, StatusSurvivesMissingAndMistypedFields) {
 TEST(CliHumanFormat, TelemetryLine) {
   EXPECT_EQ(format_telemetry_line(spec_record()),
             "seq     42  vx +0.257 vy +0.001 wz +0.000  battery 22.58 V  "
-            "odom x +1.500 y -0.250 yaw +3.142");
+            "odom x +1.500 y -0.250 yaw +3.142  attitude roll +0.175 pitch -0.087 yaw +0.000");
 }
 
 TEST(CliHumanFormat, TelemetryLineFlagsLowBatteryAndStop) {

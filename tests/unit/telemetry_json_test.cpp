@@ -49,7 +49,9 @@ TEST(TelemetryJson, WorkedExampleExactText) {
             "\"accel\":{\"x\":-0.2165,\"y\":-0.3361,\"z\":9.8756},"
             "\"gyro\":{\"x\":-0.00133,\"y\":0.00187,\"z\":0.00027},"
             "\"battery\":{\"voltage\":22.584,\"low\":false},"
-            "\"odom\":{\"x\":0.000000,\"y\":0.000000,\"yaw\":0.000000}}");
+            "\"odom\":{\"x\":0.000000,\"y\":0.000000,\"yaw\":0.000000},"
+            "\"orientation\":{\"w\":1.000000,\"x\":0.000000,\"y\":0.000000,\"z\":0.000000,"
+            "\"roll\":0.000000,\"pitch\":0.000000,\"yaw\":0.000000}}");
 }
 
 TEST(TelemetryJson, WorkedExampleParsesToTheSpecValues) {
@@ -83,12 +85,14 @@ TEST(TelemetryJson, DecodedWorkedExampleBytesGiveTheSpecValues) {
 
 TEST(TelemetryJson, KeyOrderFollowsTheSpec) {
   const auto j = nlohmann::ordered_json::parse(to_json(worked_example()));
-  EXPECT_EQ(keys(j), (std::vector<std::string>{"seq", "time", "stopped", "velocity", "accel", "gyro", "battery", "odom"}));
+  EXPECT_EQ(keys(j), (std::vector<std::string>{"seq", "time", "stopped", "velocity", "accel", "gyro", "battery", "odom",
+                                               "orientation"}));
   EXPECT_EQ(keys(j["velocity"]), (std::vector<std::string>{"vx", "vy", "wz"}));
   EXPECT_EQ(keys(j["accel"]), (std::vector<std::string>{"x", "y", "z"}));
   EXPECT_EQ(keys(j["gyro"]), (std::vector<std::string>{"x", "y", "z"}));
   EXPECT_EQ(keys(j["battery"]), (std::vector<std::string>{"voltage", "low"}));
   EXPECT_EQ(keys(j["odom"]), (std::vector<std::string>{"x", "y", "yaw"}));
+  EXPECT_EQ(keys(j["orientation"]), (std::vector<std::string>{"w", "x", "y", "z", "roll", "pitch", "yaw"}));
 }
 
 TEST(TelemetryJson, NegativeZeroPrintsAsZero) {

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "wheeltec/can_frame.hpp"
+#include "wheeltec/chassis_tilt.hpp"
+#include "wheeltec/controller_phase.hpp"
 #include "wheeltec/control_frame.hpp"
 #include "wheeltec/kinematics.hpp"
 #include "wheeltec/telemetry_record.hpp"
@@ -26,6 +28,9 @@ struct SensorNoise {
   double gyro_z_bias_lsb = 6.0;
 };
 
+// What feeds the battery besides its own charge.
+enum class PowerSupply { battery, charging_dock };
+
 struct EmulatorSettings {
   ChassisType type = ChassisType::mecanum;
   std::optional<ChassisGeometry> geometry;  // empty: default_geometry(type)
@@ -34,9 +39,14 @@ struct EmulatorSettings {
   // angle in 0.001 rad (C50X firmware).
   AckermannZ ackermann_z = AckermannZ::yaw_rate;
   Nanos boot_delay = std::chrono::seconds(10);
+  SelfTest self_test = SelfTest::drive;
+  ChassisTilt tilt;
   double battery_v = 12.0;
   // Drain with every motor at full PWM; proportionally less under lighter load.
   double battery_drain_v_per_s = 0.0005;
+  PowerSupply supply = PowerSupply::battery;
+  // On the dock: the charger's gain, up to 4.2 V a cell of the pack that `battery_v` suggests.
+  double charge_v_per_s = 0.002;
   WheelParameters wheel;  // its wheel_diameter is replaced by the geometry's
   SensorNoise noise;
   std::uint32_t seed = 0;  // sensor noise and encoder start positions
@@ -47,7 +57,8 @@ enum class FrameOutcome {
   not_a_command,        // neither a control nor an enable frame of the dialect
   ignored_booting,      // manual dialect: every command is ignored while booting
   ignored_not_enabled,  // manual dialect: a control frame before the enable frame
-  kept_until_booted,    // 0x181 dialect: acted on when boot ends
+  kept_until_booted,    // 0x181 dialect: acted on when boot (and the self-test) ends
+  kept_until_self_test_ends,  // acted on when the self-test ends
   applied,              // a control frame now being executed
   control_taken,        // 0x181 dialect: the first command; CAN control from now on
   enabled,              // manual dialect: enable frame, flag 1
@@ -60,7 +71,9 @@ std::string_view to_string(FrameOutcome outcome);
 
 struct AdvanceEvents {
   bool boot_finished = false;
-  bool kept_command_applied = false;  // 0x181 dialect: a command received during boot
+  bool self_test_started = false;
+  bool self_test_finished = false;
+  bool kept_command_applied = false;  // a command received during boot or the self-test
 };
 
 // The STM32 controller of a WHEELTEC chassis as seen from the CAN bus: boot delay,
@@ -78,17 +91,21 @@ class ChassisEmulator {
   FrameOutcome handle_frame(const CanFrame& frame);
 
   // The 24-byte record's fields as the firmware would send them now (draws sensor noise).
+  // Its velocities are those of the encoder counts since the previous record.
   RawTelemetry telemetry();
 
   Nanos time() const { return time_; }
-  bool booting() const { return time_ < settings_.boot_delay; }
+  ControllerPhase phase() const { return controller_phase(time_, settings_.boot_delay, settings_.self_test); }
+  bool booting() const { return phase() == ControllerPhase::booting; }
   // Manual dialect: enabled by the enable frame; 0x181: a command has been received.
   bool under_can_control() const { return under_can_control_; }
   const ControlCommand& command() const { return command_; }
   // The commanded body velocity; for Ackermann in steering-angle mode, wz is the yaw
   // rate that the commanded angle gives at the commanded speed.
   const Velocity& target() const { return target_; }
-  Velocity measured_velocity() const;  // forward kinematics of the encoder speeds
+  Velocity measured_velocity() const;  // forward kinematics of the last encoder read
+  // Forward kinematics of each wheel's mean measured speed since the previous call.
+  Velocity take_reported_velocity();
   Velocity true_velocity() const;      // forward kinematics of the motors' true speeds
   double battery_v() const { return battery_v_; }
   std::size_t wheel_count() const { return wheels_.size(); }
@@ -97,7 +114,11 @@ class ChassisEmulator {
 
  private:
   void run_period();
+  void start_running(AdvanceEvents& events);
+  const WheelSpeeds& wheel_targets_now() const;
   void execute(const ControlCommand& command);
+  FrameOutcome keep(const ControlCommand& command);
+  void update_battery(double load, double dt);
   void sample_gyro_bias();
   FrameOutcome handle_manual_frame(const CanFrame& frame);
   FrameOutcome handle_0x181_frame(const CanFrame& frame);
@@ -108,6 +129,10 @@ class ChassisEmulator {
   std::mt19937 random_;
   std::vector<WheelController> wheels_;
   WheelSpeeds wheel_targets_;
+  WheelSpeeds self_test_targets_;
+  WheelSpeeds zero_targets_;
+  Vector3 gravity_;  // what the accelerometer reads at rest, m/s^2
+  double full_battery_v_;
   Nanos time_{0};
   bool under_can_control_ = false;
   ControlCommand command_;

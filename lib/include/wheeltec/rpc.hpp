@@ -25,6 +25,7 @@ enum ErrorCode : int {
   kBusDown = -32003,
   kNoTelemetry = -32004,
   kNotPermitted = -32005,
+  kChassisNotReady = -32006,  // drive while chassis.phase is booting, self-test or halted
 };
 
 struct Request {
@@ -38,6 +39,7 @@ struct Error {
   int code = kInternalError;
   std::string message;
   nlohmann::json id;          // null when the request's id could not be read
+  nlohmann::json data = nullptr;  // the error object's "data" member; left out when null
 };
 
 // Parses one line (without '\n'). Errors: unparsable or invalid UTF-8 -> -32700;

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "wheeltec/attitude_filter.hpp"
 #include "wheeltec/odometry.hpp"
 #include "wheeltec/telemetry_record.hpp"
 #include "wheeltec/types.hpp"
@@ -16,10 +17,12 @@ struct TelemetrySample {
   TelemetryRecord record;
   bool battery_low = false;
   Pose odom;
+  Orientation orientation;
 };
 
 // Appends the telemetry object of spec section 2 (no trailing newline). Fixed decimals:
-// time 6, velocity 3, accel 4, gyro 5, voltage 3, odom 6. Does not allocate when `out`
+// time 6, velocity 3, accel 4, gyro 5, voltage 3, odom 6,
+// orientation 6. Does not allocate when `out`
 // has capacity.
 void append_telemetry_json(std::string& out, const TelemetrySample& sample);
 

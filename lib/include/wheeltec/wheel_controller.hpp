@@ -1,6 +1,8 @@
 #pragma once
 
+#include <array>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 
 #include "wheeltec/types.hpp"
@@ -21,7 +23,7 @@ struct WheelParameters {
   double time_constant = 0.1;         // s
   double wheel_diameter = 0.065;      // m
   int encoder_lines = 13;             // Hall encoder lines per motor turn
-  int gear_ratio = 30;                // motor turns per wheel turn
+  double gear_ratio = 30.0;           // motor turns per wheel turn (5.18 on some models)
 };
 
 // Encoder counts per wheel turn with x4 quadrature decoding.
@@ -41,6 +43,10 @@ class WheelController {
   void run_period(double target, bool motors_enabled);
 
   double measured_speed() const { return measured_speed_; }  // from the last encoder read, m/s
+  // The mean measured speed of the reads since the previous call, at most the last
+  // kMeanWindow of them (the last read's if no period ran since).
+  double take_mean_measured_speed();
+  static constexpr std::size_t kMeanWindow = 10;
   std::int32_t last_counts() const { return last_counts_; }
   double speed() const { return speed_; }                      // the motor's true speed, m/s
   double pwm() const { return pwm_; }
@@ -53,6 +59,9 @@ class WheelController {
   double speed_ = 0.0;
   double encoder_fraction_;  // how far (in counts, 0..1) the wheel is past its last counted edge
   std::int32_t last_counts_ = 0;
+  std::array<std::int32_t, kMeanWindow> recent_counts_{};  // ring, newest at recent_next_ - 1
+  std::size_t recent_next_ = 0;
+  std::size_t periods_since_taken_ = 0;
   double measured_speed_ = 0.0;
   double pwm_ = 0.0;
   double last_error_ = 0.0;
