@@ -64,9 +64,13 @@ echo "demo: \$ wheeltecctl watch -n 10"
 "$WHEELTECCTL" watch -n 10
 
 echo
-echo "demo: waiting for the emulated chassis to finish booting"
-for _ in $(seq 100); do
-  "$WHEELTECCTL" --json status | grep -q '"stopped":false' && break
+echo "demo: waiting for the emulated chassis to boot and run its self-test (it drives itself"
+echo "demo: forward at 0.2 m/s for 2 s, as the real firmware does; drive is refused meanwhile)"
+phase=
+for _ in $(seq 150); do
+  now=$("$WHEELTECCTL" --json status | grep -o '"phase":[a-z"-]*' || true)
+  [[ $now != "$phase" ]] && { echo "demo: chassis.phase ${now#\"phase\":}"; phase=$now; }
+  [[ $now == '"phase":"ready"' ]] && break
   sleep 0.1
 done
 echo "demo: \$ wheeltecctl drive 0.3 0 0.5 --for 3   (telemetry below shows the measured velocity)"
