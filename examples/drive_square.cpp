@@ -73,7 +73,6 @@ class Square {
 int main(int argc, char** argv) {
   try {
     client::Client robot(argc > 1 ? argv[1] : client::socket_path_from_environment());
-    robot.call("reset_odometry");
     // Online, and past its boot and self-test (daemons of protocol 1 report no phase).
     const auto ready = [](const client::Status& status) {
       return status.online && status.phase.value_or("ready") == "ready";
@@ -86,6 +85,8 @@ int main(int argc, char** argv) {
       boost::asio::steady_timer pause(robot.io(), 100ms);
       pause.wait();
     }
+    // After the self-test: the controller's own 0.4 m drive is not part of the square.
+    robot.call("reset_odometry");
     Square square(robot);
     return square.run() ? 0 : 1;
   } catch (const std::exception& error) {

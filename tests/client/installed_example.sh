@@ -11,7 +11,7 @@ trap 'rm -rf -- "$work"' EXIT
 
 cmake --install "$build" --prefix "$work/prefix" --component client >/dev/null
 cmake -S "$source/examples" -B "$work/cmake-build" -G Ninja -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
-cmake --build "$work/cmake-build" >/dev/null
+cmake --build "$work/cmake-build"
 pc_dir=$(dirname "$(find "$work/prefix" -name wheeltec-client.pc)")
 # shellcheck disable=SC2046  # pkg-config's words are separate arguments
 c++ -O1 -o "$work/drive_square_pkgconfig" "$source/examples/drive_square.cpp" \
