@@ -119,9 +119,15 @@ bus_start() {
   : >"$BUS_LOG"
   candump -L "$IFACE" >"$BUS_LOG" &
   bus_pid=$!
+  # candump may not have bound its socket yet: a marker sent before then is never
+  # recorded, so each poll sends a new one.
+  wait_for 5 bus_records_new_mark || { fail "candump does not record $IFACE"; return 1; }
+}
+bus_records_new_mark() {
   local mark
   mark=$(bus_mark)
-  wait_for 5 grep -q "$mark" "$BUS_LOG" || { fail "candump does not record $IFACE"; return 1; }
+  sleep 0.05
+  grep -q "$mark" "$BUS_LOG"
 }
 bus_stop() {
   [[ -n $bus_pid ]] || return 0
@@ -130,11 +136,12 @@ bus_stop() {
   bus_pid=
 }
 # bus_mark: puts a marker frame on the bus and prints its ID#DATA (unique per call).
-marker_count=0
+# Callers run it in a command substitution, a subshell: the count lives in a file.
 bus_mark() {
-  marker_count=$((marker_count + 1))
-  local frame
-  frame=$(printf '%s#%08X' "$MARKER_ID" "$marker_count")
+  local count frame
+  count=$(($(cat "$work/marker.count" 2>/dev/null || echo 0) + 1))
+  echo "$count" >"$work/marker.count"
+  frame=$(printf '%s#%08X' "$MARKER_ID" "$count")
   cansend "$IFACE" "$frame"
   echo "$frame"
 }
