@@ -8,11 +8,13 @@
 #include <utility>
 
 #include <boost/asio/post.hpp>
+#include <boost/asio/write.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/rpc.hpp"
 
+#include "lingering_close.hpp"
 #include "peer_credentials.hpp"
 #include "startup_error.hpp"
 
@@ -172,7 +174,11 @@ void ApiServer::refuse(stream_protocol::socket socket) {
   spdlog::warn("API: refused a client: too many clients (max {})", max_clients_);
   auto line = std::make_shared<const std::string>(
       rpc::encode_error(rpc::Error{kTooManyClients, fmt::format("too many clients (max {})", max_clients_), nullptr}));
-  std::make_shared<ClientSession>(std::move(socket), ClientState{}, handler_, counters_, nullptr)->refuse(std::move(line));
+  auto client = std::make_shared<stream_protocol::socket>(std::move(socket));
+  boost::asio::async_write(*client, boost::asio::buffer(*line),
+                           [client, line](const boost::system::error_code& error, std::size_t) {
+                             if (!error) close_lingering(std::move(*client));
+                           });
 }
 
 void ApiServer::client_gone(ClientId id) {

@@ -1,6 +1,5 @@
 #include "client_session.hpp"
 
-#include <algorithm>
 #include <utility>
 
 #include <boost/asio/post.hpp>
@@ -9,11 +8,15 @@
 
 #include "wheeltec/rpc.hpp"
 
+#include "lingering_close.hpp"
+
 namespace wheeltec::daemon {
 namespace {
 
 // Responses and notifications gathered into one write.
 constexpr std::size_t kMaxBuffersPerWrite = 64;
+
+constexpr OutboundQueue::Limits kBacklogLimits{};
 
 }  // namespace
 
@@ -24,7 +27,9 @@ ClientSession::ClientSession(Socket socket, ClientState state, RpcHandler& handl
       handler_(handler),
       counters_(counters),
       on_gone_(std::move(on_gone)),
-      deadline_timer_(socket_.get_executor()) {
+      framer_(rpc::kMaxLineBytes),
+      queue_(kBacklogLimits),
+      slow_timer_(socket_.get_executor()) {
   write_buffers_.reserve(kMaxBuffersPerWrite);
   boost::system::error_code error;
   socket_.non_blocking(true, error);
@@ -33,68 +38,56 @@ ClientSession::ClientSession(Socket socket, ClientState state, RpcHandler& handl
 
 void ClientSession::start() { pump(); }
 
-void ClientSession::refuse(SharedText line) {
-  gone_reported_ = true;
-  enqueue(std::move(line), Kind::at_once);
-  close_after_flush();
-}
-
 void ClientSession::send_status(SharedText notification) {
-  if (closing_ || closed_) return;
-  enqueue(std::move(notification), Kind::at_once);
+  if (!takes_notifications()) return;
+  queue(std::move(notification), OutboundQueue::Kind::reply);
+  flush();
 }
 
 void ClientSession::send_telemetry(SharedText notification) {
-  if (closing_ || closed_) return;
-  enqueue(std::move(notification), Kind::telemetry);
+  if (!takes_notifications()) return;
+  queue(std::move(notification), OutboundQueue::Kind::telemetry);
 }
 
 void ClientSession::flush() {
-  if (output_.empty()) return;  // nothing queued since the last batch: most sessions, most batches
+  if (queue_.empty()) return;  // nothing queued since the last batch: most sessions, most batches
   start_write();
   // Posted: this runs inside loops over sessions, requests or lines.
   output_progressed(Resume::posted);
 }
 
-void ClientSession::close() {
-  gone_reported_ = true;
-  shut();
-}
+void ClientSession::close() { end(Ending::shutdown); }
 
-// Moves the input side along: handles buffered lines, then reads more, or finishes at EOF.
+// Moves the input side along: handles buffered lines, then reads more, or ends at EOF.
 void ClientSession::pump() {
-  if (closing_ || closed_ || reading_) return;
-  if (above_soft_limit_) {
-    read_paused_ = true;
-    return;
-  }
+  if (phase_ != Phase::open || input_ == Input::reading) return;
   switch (handle_lines()) {
-    case LinesResult::blocked:
+    case Turn::blocked:
       return;
-    case LinesResult::yielded:
+    case Turn::yielded:
       post_pump();
       return;
-    case LinesResult::drained:
-      break;
-  }
-  if (input_ended_) {
-    end_of_input();
-  } else {
-    start_read();
+    case Turn::ended:
+      end(Ending::end_of_input);
+      return;
+    case Turn::drained:
+      start_read();
+      return;
   }
 }
 
 void ClientSession::post_pump() {
-  if (pump_posted_) return;
-  pump_posted_ = true;
+  if (input_ == Input::turn_posted) return;
+  input_ = Input::turn_posted;
   boost::asio::post(socket_.get_executor(), [self = shared_from_this()] {
-    self->pump_posted_ = false;
+    if (self->input_ != Input::turn_posted) return;
+    self->input_ = Input::idle;
     self->pump();
   });
 }
 
 void ClientSession::start_read() {
-  reading_ = true;
+  input_ = Input::reading;
   socket_.async_read_some(boost::asio::buffer(read_chunk_),
                           [self = shared_from_this()](const boost::system::error_code& error, std::size_t bytes) {
                             self->on_read(error, bytes);
@@ -102,63 +95,55 @@ void ClientSession::start_read() {
 }
 
 void ClientSession::on_read(const boost::system::error_code& error, std::size_t bytes) {
-  reading_ = false;
-  if (closed_) return;
+  input_ = Input::idle;
+  if (phase_ != Phase::open) return;
   if (error == boost::asio::error::eof) {
-    input_ended_ = true;
+    framer_.finish();  // a last line without '\n' still counts
   } else if (error) {
     spdlog::debug("client {}: read failed: {}", state_.id, error.message());
-    report_gone();
-    shut();
+    end(Ending::read_failed);
     return;
   } else {
-    input_.append(read_chunk_.data(), bytes);
+    framer_.append(std::string_view(read_chunk_.data(), bytes));
   }
   pump();
 }
 
-ClientSession::LinesResult ClientSession::handle_lines() {
+ClientSession::Turn ClientSession::handle_lines() {
   std::size_t handled = 0;
-  LinesResult result = LinesResult::drained;
-  for (;;) {
-    if (closing_ || closed_) {
-      result = LinesResult::blocked;
+  Turn turn = Turn::blocked;
+  while (phase_ == Phase::open) {
+    if (queue_.lagging()) {
+      input_ = Input::paused;  // output_progressed() resumes
       break;
     }
-    if (above_soft_limit_) {
-      read_paused_ = true;
-      result = LinesResult::blocked;
-      break;
-    }
-    const std::size_t newline = input_.find('\n', input_begin_);
-    const std::size_t line_end = newline == std::string::npos ? input_.size() : newline;
-    if (line_end - input_begin_ > rpc::kMaxLineBytes) {
+    const LineFramer::Next next = framer_.next();
+    if (next == LineFramer::Next::too_long) {
       refuse_long_line();
-      return LinesResult::blocked;
-    }
-    if (newline == std::string::npos) break;
-    if (handled == kLinesPerTurn) {
-      result = LinesResult::yielded;
       break;
     }
-    const std::string_view line(input_.data() + input_begin_, newline - input_begin_);
-    input_begin_ = newline + 1;
+    if (next == LineFramer::Next::incomplete || next == LineFramer::Next::end) {
+      turn = next == LineFramer::Next::end ? Turn::ended : Turn::drained;
+      break;
+    }
+    if (handled == kLinesPerTurn) {
+      turn = Turn::yielded;
+      break;
+    }
+    const std::string_view line = framer_.line();
+    framer_.pop();
     handle_line(line);
     ++handled;
-  }
-  if (input_begin_ > 0) {
-    input_.erase(0, input_begin_);
-    input_begin_ = 0;
   }
   // The responses of one turn go out in one send: a client that pipelines requests costs
   // one system call per turn, not one per request.
   if (handled > 0) flush();
-  return result;
+  return turn;
 }
 
 void ClientSession::handle_line(std::string_view line) {
   if (auto response = handler_.handle_line(state_, line)) {
-    enqueue(std::make_shared<const std::string>(std::move(*response)), Kind::response);
+    queue(std::make_shared<const std::string>(std::move(*response)), OutboundQueue::Kind::reply);
   }
 }
 
@@ -166,57 +151,21 @@ void ClientSession::refuse_long_line() {
   spdlog::warn("client {}: request line exceeds {} bytes; closing the connection", state_.id, rpc::kMaxLineBytes);
   ++counters_.requests;
   ++counters_.request_errors;
-  input_.clear();
-  input_.shrink_to_fit();
-  input_begin_ = 0;
   const rpc::Error error{rpc::kInvalidRequest, fmt::format("line exceeds {} bytes", rpc::kMaxLineBytes), nullptr};
-  enqueue(std::make_shared<const std::string>(rpc::encode_error(error)), Kind::at_once);
-  report_gone();
-  close_after_flush();
+  queue(std::make_shared<const std::string>(rpc::encode_error(error)), OutboundQueue::Kind::reply);
+  flush();
+  end(Ending::line_too_long);
 }
 
-// The client closed its side: a last line without '\n' still counts, then the responses
-// are flushed and the connection closed.
-void ClientSession::end_of_input() {
-  if (input_begin_ < input_.size()) {
-    const std::string rest = input_.substr(input_begin_);
-    input_.clear();
-    input_begin_ = 0;
-    handle_line(rest);
-    flush();
-  }
-  report_gone();
-  close_after_flush();
-}
-
-bool ClientSession::enqueue(SharedText text, Kind kind) {
-  if (closed_) return false;
-  const bool telemetry = kind == Kind::telemetry;
-  const std::size_t size = text->size();
-  if (telemetry && above_soft_limit_) {
-    // Not an entry being written, nor one already written in part.
-    const std::size_t first_replaceable = std::max<std::size_t>(in_flight_, front_written_ > 0 ? 1 : 0);
-    for (std::size_t i = output_.size(); i-- > first_replaceable;) {
-      if (!output_[i].telemetry) continue;
-      backlog_bytes_ = backlog_bytes_ - output_[i].text->size() + size;
-      output_[i].text = std::move(text);
-      ++counters_.notifications_dropped;
-      if (backlog_bytes_ > kHardBacklogBytes) {
-        disconnect_slow("output backlog full");
-        return false;
-      }
-      return true;
-    }
-  }
-  if (backlog_bytes_ + size > kHardBacklogBytes) {
+void ClientSession::queue(SharedText text, OutboundQueue::Kind kind) {
+  if (phase_ == Phase::closed) return;
+  const OutboundQueue::Admission admission = queue_.push(std::move(text), kind);
+  if (admission.replaced_telemetry) ++counters_.notifications_dropped;
+  if (admission.over_hard_limit) {
     disconnect_slow("output backlog full");
-    return false;
+    return;
   }
-  output_.push_back(Outgoing{std::move(text), telemetry});
-  backlog_bytes_ += size;
-  backlog_changed();
-  if (kind == Kind::at_once) flush();
-  return true;
+  watch_lag();
 }
 
 // What the socket takes is written here, without a completion handler: a send costs one
@@ -224,7 +173,7 @@ bool ClientSession::enqueue(SharedText text, Kind kind) {
 // an epoll_wait of its own), and a batch of telemetry goes to all subscribers in one tight
 // loop. Only a remainder the socket did not take waits for it with an asynchronous write.
 void ClientSession::start_write() {
-  if (closed_ || in_flight_ > 0 || output_.empty()) return;
+  if (phase_ == Phase::closed || queue_.write_in_flight() || queue_.empty()) return;
   if (direct_writes_) {
     gather_write_buffers();
     boost::system::error_code error;
@@ -233,12 +182,12 @@ void ClientSession::start_write() {
       write_failed(error);
       return;
     }
-    consume_written(written);
-    backlog_changed();
-    if (output_.empty()) return;
+    queue_.written(written);
+    watch_lag();
+    if (queue_.empty()) return;
   }
   gather_write_buffers();
-  in_flight_ = write_buffers_.size();
+  queue_.write_started(write_buffers_.size());
   // async_write_some, not async_write: async_write hands the socket at most 16 buffers per
   // send. on_write() takes a partial write as it comes and writes the rest.
   socket_.async_write_some(write_buffers_,
@@ -249,155 +198,106 @@ void ClientSession::start_write() {
 
 void ClientSession::gather_write_buffers() {
   write_buffers_.clear();
-  for (std::size_t i = 0; i < output_.size() && i < kMaxBuffersPerWrite; ++i) {
-    write_buffers_.push_back(boost::asio::buffer(*output_[i].text) + (i == 0 ? front_written_ : 0));
-  }
-}
-
-void ClientSession::consume_written(std::size_t bytes) {
-  while (bytes > 0 && !output_.empty()) {
-    const std::size_t size = output_.front().text->size();
-    const std::size_t rest = size - front_written_;
-    if (bytes < rest) {
-      front_written_ += bytes;
-      return;
-    }
-    bytes -= rest;
-    backlog_bytes_ -= size;
-    output_.pop_front();
-    front_written_ = 0;
+  for (std::size_t i = 0; i < queue_.size() && i < kMaxBuffersPerWrite; ++i) {
+    const std::string_view text = queue_.unwritten(i);
+    write_buffers_.push_back(boost::asio::buffer(text.data(), text.size()));
   }
 }
 
 void ClientSession::write_failed(const boost::system::error_code& error) {
   spdlog::debug("client {}: write failed: {}", state_.id, error.message());
-  report_gone();
-  shut();
+  end(Ending::write_failed);
 }
 
 void ClientSession::on_write(const boost::system::error_code& error, std::size_t bytes) {
-  if (closed_) return;
+  if (phase_ == Phase::closed) return;
   if (error) {
     write_failed(error);
     return;
   }
-  in_flight_ = 0;
-  consume_written(bytes);
-  backlog_changed();
+  queue_.written(bytes);
+  watch_lag();
   start_write();
   output_progressed(Resume::at_once);
 }
 
-// After a write: a close that waited for the output to drain goes ahead, and reading
-// paused by backpressure resumes once the backlog is below the soft limit.
+// After a write: a close that waited for the output to be written goes ahead, and reading
+// paused by backpressure resumes once the client no longer lags.
 void ClientSession::output_progressed(Resume resume) {
-  if (output_.empty() && closing_) {
-    linger();
+  if (phase_ == Phase::closing && queue_.empty()) {
+    close_connection(Close::lingering);
     return;
   }
-  if (read_paused_ && !above_soft_limit_) {
-    read_paused_ = false;
-    if (resume == Resume::posted) {
-      post_pump();
-    } else {
-      pump();
-    }
+  if (input_ != Input::paused || queue_.lagging()) return;
+  input_ = Input::idle;
+  if (resume == Resume::posted) {
+    post_pump();
+  } else {
+    pump();
   }
 }
 
-void ClientSession::backlog_changed() {
-  const bool above = backlog_bytes_ > kSoftBacklogBytes;
-  if (above == above_soft_limit_) return;
-  above_soft_limit_ = above;
-  if (!above) {
-    deadline_timer_.cancel();
+// Starts the slow-client deadline when the client begins to lag, cancels it when it stops.
+void ClientSession::watch_lag() {
+  const bool lagging = queue_.lagging();
+  if (lagging == lagging_since_.has_value()) return;
+  if (!lagging) {
+    lagging_since_.reset();
+    slow_timer_.cancel();
     return;
   }
-  above_soft_limit_since_ = std::chrono::steady_clock::now();
-  deadline_timer_.expires_after(kSlowTimeout);
-  deadline_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
+  lagging_since_ = std::chrono::steady_clock::now();
+  slow_timer_.expires_after(kSlowTimeout);
+  slow_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
     self->on_slow_timer(error);
   });
 }
 
 void ClientSession::on_slow_timer(const boost::system::error_code& error) {
-  if (error || closed_ || !above_soft_limit_) return;
+  if (error || phase_ == Phase::closed || !lagging_since_) return;
   // A wait that completed just before a cancel must not end a later, shorter episode.
-  if (std::chrono::steady_clock::now() - above_soft_limit_since_ < kSlowTimeout) return;
-  disconnect_slow(fmt::format("output backlog above {} bytes for {} s", kSoftBacklogBytes, kSlowTimeout.count()));
+  if (std::chrono::steady_clock::now() - *lagging_since_ < kSlowTimeout) return;
+  disconnect_slow(
+      fmt::format("output backlog above {} bytes for {} s", kBacklogLimits.soft_bytes, kSlowTimeout.count()));
 }
 
-void ClientSession::close_after_flush() {
-  closing_ = true;
-  if (output_.empty()) linger();
-}
-
-// Closing a Unix socket with unread input makes the peer's next read fail with
-// ECONNRESET instead of returning the end of the stream. So the output side is shut
-// first and what the client still sends is read and dropped, within limits, before the
-// close.
-void ClientSession::linger() {
-  if (closed_ || lingering_) return;
-  if (input_ended_) {
-    shut();
-    return;
-  }
-  lingering_ = true;
-  boost::system::error_code ignored;
-  socket_.shutdown(Socket::shutdown_send, ignored);
-  deadline_timer_.cancel();
-  deadline_timer_.expires_after(kLingerTimeout);
-  deadline_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
-    if (!error) self->shut();
-  });
-  discard_input(0);
-}
-
-void ClientSession::discard_input(std::size_t discarded) {
-  if (closed_) return;
-  if (discarded > kLingerMaxBytes) {
-    shut();
-    return;
-  }
-  socket_.async_read_some(boost::asio::buffer(read_chunk_), [self = shared_from_this(), discarded](
-                                                                const boost::system::error_code& error,
-                                                                std::size_t bytes) {
-    if (error) {
-      self->shut();
-    } else {
-      self->discard_input(discarded + bytes);
-    }
-  });
-}
-
-void ClientSession::disconnect_slow(const std::string& why) {
+void ClientSession::disconnect_slow(std::string_view why) {
   ++counters_.clients_disconnected_slow;
   spdlog::warn("client {}: disconnected, it does not read its messages: {} ({} bytes queued)", state_.id, why,
-               backlog_bytes_);
-  report_gone();
-  shut();
+               queue_.backlog_bytes());
+  end(Ending::slow_client);
 }
 
-void ClientSession::shut() {
-  if (closed_) return;
-  closed_ = true;
-  closing_ = true;
+void ClientSession::end(Ending ending) {
+  if (phase_ == Phase::closed) return;
+  if (phase_ == Phase::open) {
+    phase_ = Phase::ending;
+    framer_.discard();
+    // This may queue a last status notification for the client, or end the session at once.
+    if (ending != Ending::shutdown && on_gone_) on_gone_(state_.id);
+    if (phase_ == Phase::closed) return;
+  }
+  if (ending != Ending::end_of_input && ending != Ending::line_too_long) {
+    close_connection(Close::now);
+    return;
+  }
+  phase_ = Phase::closing;
+  if (queue_.empty()) close_connection(Close::lingering);
+}
+
+void ClientSession::close_connection(Close how) {
+  phase_ = Phase::closed;
+  slow_timer_.cancel();
+  lagging_since_.reset();
+  queue_.clear();
+  // Once the client has ended its input, nothing it sends can turn the close into a reset.
+  if (how == Close::lingering && !framer_.finished()) {
+    close_lingering(std::move(socket_));
+    return;
+  }
   boost::system::error_code ignored;
   socket_.shutdown(Socket::shutdown_both, ignored);
   socket_.close(ignored);
-  deadline_timer_.cancel();
-  output_.clear();
-  front_written_ = 0;
-  in_flight_ = 0;
-  backlog_bytes_ = 0;
-  input_.clear();
-  input_.shrink_to_fit();
-}
-
-void ClientSession::report_gone() {
-  if (gone_reported_) return;
-  gone_reported_ = true;
-  if (on_gone_) on_gone_(state_.id);
 }
 
 }  // namespace wheeltec::daemon
