@@ -2,17 +2,14 @@
 
 #include <linux/can.h>
 #include <linux/can/error.h>
-#include <net/if.h>
-#include <sys/ioctl.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 
 #include <boost/asio/error.hpp>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/asio_can/socket_fault.hpp"
 #include "wheeltec/charging_dock.hpp"
 #include "wheeltec/telemetry_reassembler.hpp"
 
@@ -43,19 +40,6 @@ TelemetryFilters telemetry_filters() {
   return filters;
 }
 
-// True if `name` is up (IFF_UP); `fd` may be any socket.
-bool interface_is_up(int fd, const std::string& name, boost::system::error_code& ec) {
-  ifreq request;
-  std::memset(&request, 0, sizeof(request));
-  std::strncpy(request.ifr_name, name.c_str(), IFNAMSIZ - 1);
-  if (::ioctl(fd, SIOCGIFFLAGS, &request) < 0) {
-    ec.assign(errno, boost::system::system_category());
-    return false;
-  }
-  ec.clear();
-  return (request.ifr_flags & IFF_UP) != 0;
-}
-
 // A larger receive queue, if the kernel allows; the link works with the default too.
 void enlarge_receive_buffer(asio_can::raw_protocol::socket& socket, const std::string& interface) {
   boost::system::error_code ec;
@@ -68,22 +52,7 @@ void enlarge_receive_buffer(asio_can::raw_protocol::socket& socket, const std::s
                 ec ? fmt::format(" (asked for {}: {})", kReceiveBufferBytes, ec.message()) : std::string());
 }
 
-bool means_interface_gone(const boost::system::error_code& ec) {
-  return ec == boost::asio::error::network_down || ec == boost::asio::error::no_such_device ||
-         ec.value() == ENXIO;
-}
-
 }  // namespace
-
-std::string_view to_string(BusState state) {
-  switch (state) {
-    case BusState::up: return "up";
-    case BusState::down: return "down";
-    case BusState::error_passive: return "error-passive";
-    case BusState::bus_off: return "bus-off";
-  }
-  return "unknown";
-}
 
 CanLink::CanLink(boost::asio::io_context& io, std::string interface, std::chrono::milliseconds retry_interval,
                  std::chrono::milliseconds max_retry_interval)
@@ -134,7 +103,8 @@ bool CanLink::send(const CanFrame& frame) {
     return true;
   }
   ++counters_.send_errors;
-  if (means_interface_gone(ec)) {
+  const asio_can::socket_fault fault = asio_can::classify_fault(ec);
+  if (fault == asio_can::socket_fault::interface_down || fault == asio_can::socket_fault::interface_gone) {
     go_down(ec);
     return false;
   }
@@ -170,7 +140,7 @@ bool CanLink::try_open() {
     return false;
   };
 
-  const bool up = interface_is_up(socket_.native_handle(), interface_, ec);
+  const bool up = asio_can::interface_is_up(socket_, interface_, ec);
   if (ec) return fail(DownCause::open_failed, "cannot read interface flags");
   if (!up) return fail(DownCause::not_up, "interface down");
 
@@ -271,7 +241,7 @@ void CanLink::recheck_interface() {
   if (asio_can::interface_index(interface_, ec) != ifindex_) {
     go_down(boost::asio::error::no_such_device);
     retry_now();
-  } else if (!interface_is_up(socket_.native_handle(), interface_, ec)) {
+  } else if (!asio_can::interface_is_up(socket_, interface_, ec)) {
     go_down(ec ? ec : boost::system::error_code(boost::asio::error::network_down));
   }
 }
@@ -303,26 +273,13 @@ void CanLink::on_frames(std::span<const asio_can::ReceivedFrame> frames, const b
 
 void CanLink::handle_error_frame(const CanFrame& frame) {
   ++counters_.error_frames;
-  const std::uint32_t error_class = frame.id;
-  const std::uint8_t controller = frame.data[1];
-  spdlog::debug("CAN {}: error frame class {:#x} data {:02x}", interface_, error_class,
+  spdlog::debug("CAN {}: error frame class {:#x} data {:02x}", interface_, frame.id,
                 fmt::join(frame.data.begin(), frame.data.begin() + std::min<std::size_t>(frame.dlc, 8), " "));
-  if (error_class & CAN_ERR_BUSOFF) {
-    if (state_ != BusState::bus_off) spdlog::warn("CAN {}: controller bus-off", interface_);
-    set_state(BusState::bus_off);
-  } else if (error_class & CAN_ERR_RESTARTED) {
-    set_state(BusState::up);
-  } else if (error_class & CAN_ERR_CRTL) {
-    if (controller & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) {
-      if (state_ != BusState::error_passive) spdlog::warn("CAN {}: controller error-passive", interface_);
-      set_state(BusState::error_passive);
-    } else if ((state_ == BusState::error_passive &&
-                (controller & (CAN_ERR_CRTL_ACTIVE | CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING))) ||
-               (state_ == BusState::bus_off && (controller & CAN_ERR_CRTL_ACTIVE))) {
-      // Back below the passive threshold: error-active or error-warning, both transmit normally.
-      set_state(BusState::up);
-    }
+  const BusState next = bus_state_after_error_frame(state_, frame);
+  if (next != state_ && (next == BusState::bus_off || next == BusState::error_passive)) {
+    spdlog::warn("CAN {}: controller {}", interface_, to_string(next));
   }
+  set_state(next);
 }
 
 void CanLink::set_state(BusState state) {

@@ -13,6 +13,7 @@
 #include "wheeltec/asio_can/frame_io.hpp"
 #include "wheeltec/asio_can/frame_reader.hpp"
 #include "wheeltec/asio_can/raw_protocol.hpp"
+#include "wheeltec/bus_state.hpp"
 #include "wheeltec/can_frame.hpp"
 #include "wheeltec/link_event.hpp"
 
@@ -20,8 +21,6 @@
 
 namespace wheeltec::daemon {
 
-enum class BusState { up, down, error_passive, bus_off };
-std::string_view to_string(BusState state);  // "up", "down", "error-passive", "bus-off"
 
 struct CanLinkCounters {
   std::uint64_t frames_received = 0;  // frames that passed the kernel filter (telemetry IDs, the dock's 0x182)

@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -41,6 +42,21 @@ nlohmann::json flags_as_config(const Options& options) {
   if (options.socket) document["api"]["socket"] = *options.socket;
   if (options.log_level) document["log"]["level"] = *options.log_level;
   return document;
+}
+
+// True if `document` (of the config file's shape) sets the key path "section.key".
+bool sets_key(const nlohmann::json& document, const std::string& key) {
+  const nlohmann::json* node = &document;
+  std::size_t start = 0;
+  while (start <= key.size()) {
+    const std::size_t dot = std::min(key.find('.', start), key.size());
+    if (!node->is_object()) return false;
+    const auto member = node->find(key.substr(start, dot - start));
+    if (member == node->end()) return false;
+    node = &*member;
+    start = dot + 1;
+  }
+  return !key.empty();
 }
 
 }  // namespace
@@ -88,20 +104,28 @@ std::optional<std::string> config_file_to_load(const Options& options) {
 
 GatewayConfig load_config(const Options& options) {
   GatewayConfig config;
-  if (const auto file = config_file_to_load(options)) {
+  const std::optional<std::string> file = config_file_to_load(options);
+  if (file) {
     const std::string text = read_config_file(*file);
     try {
-      config = parse_config(text);
+      apply_config(parse_config_document(text), config);
     } catch (const ConfigError& error) {
       throw ConfigError(fmt::format("{}: {}", *file, error.what()));
     }
   }
+  const nlohmann::json flags = flags_as_config(options);
   try {
-    apply_config(flags_as_config(options), config);
+    apply_config(flags, config);
   } catch (const ConfigError& error) {
     throw ConfigError(fmt::format("command line: {}", error.what()));
   }
-  validate_config(config);
+  try {
+    validate_config(config);
+  } catch (const ConfigError& error) {
+    if (sets_key(flags, error.key())) throw ConfigError(fmt::format("command line: {}", error.what()));
+    if (file) throw ConfigError(fmt::format("{}: {}", *file, error.what()));
+    throw;
+  }
   return config;
 }
 

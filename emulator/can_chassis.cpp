@@ -1,13 +1,13 @@
 #include "can_chassis.hpp"
 
-#include <cerrno>
-
 #include <boost/asio/error.hpp>
 #include <spdlog/spdlog.h>
 
 #include "can_socket.hpp"
 #include "wheeltec/asio_can/frame_io.hpp"
+#include "wheeltec/asio_can/socket_fault.hpp"
 #include "wheeltec/charging_dock.hpp"
+#include "wheeltec/seconds.hpp"
 
 namespace wheeltec::emulator {
 
@@ -17,8 +17,6 @@ constexpr auto kControlPeriod = std::chrono::milliseconds(10);
 constexpr auto kReopenInterval = std::chrono::seconds(1);
 // How long a rebooting chassis is off (silent and deaf) before it boots again.
 constexpr auto kRebootOffTime = std::chrono::milliseconds(500);
-// Frames handled per wake-up, so that a flood of frames cannot starve the timers.
-constexpr int kMaxFramesPerWakeup = 256;
 // Behind by more than this (the process was stopped), timers restart from now instead of catching up.
 constexpr auto kMaxLag = std::chrono::seconds(1);
 // How often the emulated charging dock reports on 0x182 (the firmware's recharge task
@@ -27,11 +25,6 @@ constexpr auto kDockReportPeriod = std::chrono::milliseconds(100);
 // The robot sits on the dock facing away from it: the two middle receivers see the beacon.
 constexpr ChargingDockState kDockedState{.approach_x = 0, .approach_z = 0, .charging = true,
                                          .ir = {false, true, true, false}};
-
-template <class Duration>
-Duration from_seconds(double seconds) {
-  return std::chrono::duration_cast<Duration>(std::chrono::duration<double>(seconds));
-}
 
 EmulatorSettings model_settings(const EmulatorOptions& options, std::uint32_t seed) {
   EmulatorSettings settings;
@@ -47,15 +40,6 @@ EmulatorSettings model_settings(const EmulatorOptions& options, std::uint32_t se
   settings.battery_v = options.battery_v;
   settings.seed = seed;
   return settings;
-}
-
-bool is_would_block(const boost::system::error_code& ec) {
-  return ec == boost::asio::error::would_block || ec == boost::asio::error::try_again;
-}
-
-// The socket lost its interface (it was deleted); only a new socket can get it back.
-bool is_interface_gone(const boost::system::error_code& ec) {
-  return ec.value() == ENODEV || ec.value() == ENXIO || ec.value() == EBADF;
 }
 
 // The record as produced, before any fault is injected: lets a test tell which
@@ -79,6 +63,10 @@ CanChassis::CanChassis(boost::asio::io_context& io, const EmulatorOptions& optio
       model_(model_settings(options, seed)),
       faults_(options.faults, seed ^ 0x9E3779B9u),
       socket_(io),
+      reader_(socket_,
+              [this](std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
+                on_frames(frames, ec);
+              }),
       control_timer_(io),
       telemetry_timer_(io),
       reopen_timer_(io),
@@ -97,7 +85,7 @@ std::optional<std::string> CanChassis::start() {
   control_timer_.async_wait([this](const boost::system::error_code& ec) { on_control_period(ec); });
   telemetry_timer_.expires_at(next_telemetry_);
   telemetry_timer_.async_wait([this](const boost::system::error_code& ec) { on_telemetry_period(ec); });
-  wait_for_frames();
+  reader_.start();
   if (options_.reboot_after_s) {
     reboot_timer_.expires_at(started_ + from_seconds<Clock::duration>(*options_.reboot_after_s));
     reboot_timer_.async_wait([this](const boost::system::error_code& ec) {
@@ -206,51 +194,42 @@ bool CanChassis::send(const CanFrame& frame) {
     return true;
   }
   ++frames_lost_;
-  if (is_interface_gone(ec)) {
-    lose_interface(ec);
-    return false;
+  switch (asio_can::classify_fault(ec)) {
+    case asio_can::socket_fault::interface_gone:
+      lose_interface(ec);
+      return false;
+    case asio_can::socket_fault::interface_down:
+      note_link_error(ec);
+      return true;
+    default:
+      spdlog::debug("frame 0x{:03X} not sent: {} ({} lost so far)", frame.id, ec.message(), frames_lost_);
+      return true;
   }
-  if (ec.value() == ENETDOWN) {
-    note_link_error(ec);
-  } else {
-    spdlog::debug("frame 0x{:03X} not sent: {} ({} lost so far)", frame.id, ec.message(), frames_lost_);
-  }
-  return true;
 }
 
-void CanChassis::wait_for_frames() {
-  socket_.async_wait(asio_can::raw_protocol::socket::wait_read, [this](const boost::system::error_code& ec) {
-    if (ec == boost::asio::error::operation_aborted) return;
-    if (ec) {
+void CanChassis::on_frames(std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
+  if (ec == boost::asio::error::operation_aborted || !socket_.is_open()) return;  // closed since
+  if (!frames.empty()) {
+    note_link_working();
+    if (powered_) {
+      advance_model();
+      for (const asio_can::ReceivedFrame& received : frames) {
+        log_outcome(model_.handle_frame(received.frame), received.frame);
+      }
+    }
+  }
+  switch (asio_can::classify_fault(ec)) {
+    case asio_can::socket_fault::none:
+      break;
+    case asio_can::socket_fault::interface_down:
+      note_link_error(ec);
+      break;
+    case asio_can::socket_fault::transient:
+    case asio_can::socket_fault::interface_gone:
       lose_interface(ec);
       return;
-    }
-    receive_frames();
-  });
-}
-
-void CanChassis::receive_frames() {
-  boost::system::error_code ec;
-  bool advanced = false;
-  for (int handled = 0; handled < kMaxFramesPerWakeup && socket_.is_open(); ++handled) {
-    const std::optional<asio_can::ReceivedFrame> received = asio_can::receive_frame(socket_, ec);
-    if (!received) break;
-    note_link_working();
-    if (!powered_) continue;
-    if (!advanced) {
-      advance_model();
-      advanced = true;
-    }
-    log_outcome(model_.handle_frame(received->frame), received->frame);
   }
-  if (!ec || is_would_block(ec) || ec == boost::system::errc::message_size) {
-    wait_for_frames();
-  } else if (ec.value() == ENETDOWN) {
-    note_link_error(ec);
-    wait_for_frames();
-  } else {
-    lose_interface(ec);
-  }
+  reader_.start();
 }
 
 void CanChassis::log_outcome(FrameOutcome outcome, const CanFrame& frame) const {
@@ -311,7 +290,7 @@ void CanChassis::on_reopen(const boost::system::error_code& ec) {
   }
   link_down_ = false;
   spdlog::info("interface {} is back", options_.interface);
-  wait_for_frames();
+  reader_.start();
 }
 
 }  // namespace wheeltec::emulator

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 
 #include <boost/asio/io_context.hpp>
@@ -10,6 +11,7 @@
 #include <boost/system/error_code.hpp>
 
 #include "emulator_options.hpp"
+#include "wheeltec/asio_can/frame_reader.hpp"
 #include "wheeltec/asio_can/raw_protocol.hpp"
 #include "wheeltec/chassis_emulator.hpp"
 #include "wheeltec/telemetry_group.hpp"
@@ -28,8 +30,7 @@ class CanChassis {
  private:
   using Clock = std::chrono::steady_clock;
 
-  void wait_for_frames();
-  void receive_frames();
+  void on_frames(std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec);
   void on_control_period(const boost::system::error_code& ec);
   void on_telemetry_period(const boost::system::error_code& ec);
   void send_telemetry();
@@ -49,6 +50,7 @@ class CanChassis {
   ChassisEmulator model_;
   TelemetryFaultInjector faults_;
   asio_can::raw_protocol::socket socket_;
+  asio_can::frame_reader reader_;  // after socket_: destroyed before it
   boost::asio::steady_timer control_timer_;
   boost::asio::steady_timer telemetry_timer_;
   boost::asio::steady_timer reopen_timer_;

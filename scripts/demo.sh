@@ -10,5 +10,5 @@ REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$REPO_ROOT/scripts/lib/setup.sh"
 
 install_dependencies
-configure_and_build
+WHEELTEC_BUILD_TESTS=OFF configure_and_build
 exec "$REPO_ROOT/scripts/vcan-run" -- "$REPO_ROOT/scripts/lib/demo-session.sh" "$BUILD_DIR"

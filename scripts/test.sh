@@ -9,7 +9,7 @@ REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # shellcheck source=scripts/lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
 
-install_dependencies
+install_dependencies tests
 configure_and_build
 (cd "$BUILD_DIR" && ctest --output-on-failure "$@")
 

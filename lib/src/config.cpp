@@ -6,13 +6,14 @@
 #include <functional>
 #include <initializer_list>
 #include <limits>
-#include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include "wheeltec/json_text.hpp"
 
 namespace wheeltec {
 namespace {
@@ -32,9 +33,10 @@ constexpr std::uint32_t kMaxMode = 0777;
 constexpr int kMinClients = 1;
 constexpr int kMaxClients = 1024;
 
-[[noreturn]] void fail(std::string_view path, std::string_view message) {
-  throw ConfigError(fmt::format("{}: {}", path, message));
-}
+// Deeper than any config file: refused before the document is walked.
+constexpr int kMaxDepth = 16;
+
+[[noreturn]] void fail(std::string_view path, std::string_view message) { throw ConfigError(std::string(path), message); }
 
 std::string join(std::string_view path, std::string_view key) {
   return path.empty() ? std::string(key) : fmt::format("{}.{}", path, key);
@@ -94,34 +96,17 @@ Enum read_enum(const json& value, const std::string& path, const std::array<Enum
   fail(path, fmt::format("must be one of {}, got \"{}\"", fmt::join(names, ", "), text));
 }
 
-std::string read_log_level(const json& value, const std::string& path) {
-  const std::string& text = read_string(value, path);
-  for (std::string_view level : kLogLevels) {
-    if (level == text) return text;
-  }
-  fail(path, fmt::format("must be one of {}, got \"{}\"", fmt::join(kLogLevels, ", "), text));
-}
-
+// An octal permission string; validate_config checks the value.
 std::uint32_t read_mode(const json& value, const std::string& path) {
   if (!value.is_string()) {
     fail(path, fmt::format("expected an octal string like \"0660\", got {}", describe(value)));
   }
   const std::string& text = value.get_ref<const std::string&>();
-  std::uint32_t mode = 0;
-  bool ok = !text.empty();
-  for (char c : text) {
-    if (c < '0' || c > '7') {
-      ok = false;
-      break;
-    }
-    mode = mode * 8 + static_cast<std::uint32_t>(c - '0');
-    if (mode > kMaxMode) {
-      ok = false;
-      break;
-    }
-  }
-  if (!ok) fail(path, fmt::format("must be an octal permission string like \"0660\" (at most 0777), got \"{}\"", text));
-  return mode;
+  std::uint64_t mode = 0;
+  const bool octal = !text.empty() && text.size() <= 8 && text.find_first_not_of("01234567") == std::string::npos;
+  if (!octal) fail(path, fmt::format("must be an octal permission string like \"0660\", got \"{}\"", text));
+  for (char c : text) mode = mode * 8 + static_cast<std::uint64_t>(c - '0');
+  return static_cast<std::uint32_t>(mode);
 }
 
 // User or group: a name, or a numeric id which is kept as its decimal string.
@@ -132,7 +117,6 @@ std::vector<std::string> read_principals(const json& value, const std::string& p
     const json& item = value[i];
     const std::string item_path = fmt::format("{}[{}]", path, i);
     if (item.is_string()) {
-      if (item.get_ref<const std::string&>().empty()) fail(item_path, "must not be empty");
       out.push_back(item.get<std::string>());
     } else if (item.is_number()) {
       out.push_back(std::to_string(read_integer(item, item_path, 0, std::numeric_limits<std::uint32_t>::max())));
@@ -161,69 +145,10 @@ void apply_object(const json& value, const std::string& path, std::initializer_l
   }
 }
 
-// Records duplicate keys while nlohmann builds the document (it would silently keep the last).
-class DuplicateKeyDetector {
- public:
-  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
-    switch (event) {
-      case json::parse_event_t::object_start:
-        enter_element();
-        frames_.push_back(Frame{false, {}, 0, {}});
-        break;
-      case json::parse_event_t::array_start:
-        enter_element();
-        frames_.push_back(Frame{true, {}, 0, {}});
-        break;
-      case json::parse_event_t::object_end:
-      case json::parse_event_t::array_end:
-        frames_.pop_back();
-        break;
-      case json::parse_event_t::value:
-        enter_element();
-        break;
-      case json::parse_event_t::key: {
-        Frame& frame = frames_.back();
-        frame.key = parsed.get<std::string>();
-        if (!frame.keys.insert(frame.key).second) {
-          throw ConfigError(fmt::format("{}: duplicate key", current_path()));
-        }
-        break;
-      }
-    }
-    return true;
-  }
-
- private:
-  struct Frame {
-    bool is_array;
-    std::string key;        // objects: the member being parsed
-    std::size_t count;      // arrays: elements started so far
-    std::set<std::string> keys;
-  };
-
-  void enter_element() {
-    if (!frames_.empty() && frames_.back().is_array) ++frames_.back().count;
-  }
-
-  std::string current_path() const {
-    std::string path;
-    for (const Frame& frame : frames_) {
-      if (frame.is_array) {
-        path += fmt::format("[{}]", frame.count - 1);
-      } else {
-        if (!path.empty()) path += '.';
-        path += frame.key;
-      }
-    }
-    return path;
-  }
-
-  std::vector<Frame> frames_;
-};
-
 std::string syntax_error_message(const json::parse_error& error) {
   // nlohmann: "[json.exception.parse_error.101] parse error at line 2, column 5: syntax error while parsing ..."
-  std::string_view what = error.what();
+  const std::string message = json_text::message(error);
+  std::string_view what = message;
   const auto at = what.find(" at line ");
   std::string_view detail;
   std::string location;
@@ -252,21 +177,27 @@ void check_half_open(double value, double lo, double hi, std::string_view path) 
 
 }  // namespace
 
-GatewayConfig parse_config(std::string_view text, GatewayConfig base) {
+ConfigError::ConfigError(std::string key, std::string_view problem)
+    : std::runtime_error(fmt::format("{}: {}", key, problem)), key_(std::move(key)) {}
+
+json parse_config_document(std::string_view text) {
+  json_text::Findings findings;
   json document;
   try {
-    DuplicateKeyDetector detector;
-    document = json::parse(text.begin(), text.end(), std::ref(detector));
+    document = json_text::parse(text, findings, kMaxDepth);
   } catch (const json::parse_error& error) {
     throw ConfigError(syntax_error_message(error));
   } catch (const json::exception& error) {
     // e.g. out_of_range 406 for a number that overflows a double (1e999)
-    std::string_view what = error.what();
-    const auto bracket = what.find("] ");
-    if (bracket != std::string_view::npos) what.remove_prefix(bracket + 2);
-    throw ConfigError(fmt::format("config: {}", what));
+    throw ConfigError(fmt::format("config: {}", json_text::message(error)));
   }
-  apply_config(document, base);
+  if (findings.too_deep) throw ConfigError(fmt::format("config: nested deeper than {} levels", kMaxDepth));
+  if (findings.duplicate_key) fail(findings.duplicate_path, "duplicate key");
+  return document;
+}
+
+GatewayConfig parse_config(std::string_view text, GatewayConfig base) {
+  apply_config(parse_config_document(text), base);
   validate_config(base);
   return base;
 }
@@ -283,7 +214,7 @@ void apply_config(const json& document, GatewayConfig& config) {
          {"dialect", [&](const json& x, const std::string& q) { c.can.dialect = read_enum(x, q, kDialects); }},
          {"bitrate", [&](const json& x, const std::string& q) {
             c.can.bitrate = static_cast<std::uint32_t>(
-                read_integer(x, q, 1, std::numeric_limits<std::uint32_t>::max()));
+                read_integer(x, q, 0, std::numeric_limits<std::uint32_t>::max()));
           }},
        });
      }},
@@ -334,7 +265,8 @@ void apply_config(const json& document, GatewayConfig& config) {
             }
           }},
          {"max_clients", [&](const json& x, const std::string& q) {
-            c.api.max_clients = static_cast<int>(read_integer(x, q, kMinClients, kMaxClients));
+            c.api.max_clients = static_cast<int>(
+                read_integer(x, q, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
           }},
          {"control_users", [&](const json& x, const std::string& q) { c.api.control_users = read_principals(x, q); }},
          {"control_groups",
@@ -343,7 +275,7 @@ void apply_config(const json& document, GatewayConfig& config) {
      }},
     {"log", [&](const json& v, const std::string& p) {
        apply_object(v, p, {
-         {"level", [&](const json& x, const std::string& q) { c.log.level = read_log_level(x, q); }},
+         {"level", [&](const json& x, const std::string& q) { c.log.level = read_string(x, q); }},
        });
      }},
   });

@@ -13,6 +13,8 @@
 
 #include <fmt/format.h>
 
+#include "wheeltec/json_text.hpp"
+
 namespace wheeltec::rpc {
 namespace {
 
@@ -26,43 +28,16 @@ std::string dump(const json& value) {
   return value.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
-// Parser messages quote the offending input, which may be invalid UTF-8 or control bytes.
-std::string printable(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char ch : text) {
-    const auto byte = static_cast<unsigned char>(ch);
-    if (byte < 0x20 || byte >= 0x7F) {
-      out += fmt::format("\\x{:02X}", byte);
-    } else {
-      out += ch;
-    }
-  }
-  return out;
-}
-
-std::string parse_error_message(const json::exception& error) {
-  std::string_view what = error.what();
-  const auto bracket = what.find("] ");
-  if (bracket != std::string_view::npos) what.remove_prefix(bracket + 2);
-  return printable(what);
-}
+using json_text::printable;
 
 Error invalid_params(const Request& request, std::string message) {
   return Error{kInvalidParams, std::move(message), request.id};
 }
 
-// What the parser saw that the document built from it no longer shows.
-struct ParseFindings {
-  bool too_deep = false;
-  std::optional<std::string> duplicate_key;  // the first key repeated within one object
-  bool duplicate_at_top = false;             // ... in the request object itself
-};
-
-std::variant<Request, Error> parse_object(json& document, const ParseFindings& findings) {
+std::variant<Request, Error> parse_object(json& document, const json_text::Findings& findings) {
   Request request;
   // With "id" given twice, which one the client meant is unknown: answer with a null id.
-  const bool id_ambiguous = findings.duplicate_at_top && findings.duplicate_key == "id";
+  const bool id_ambiguous = findings.duplicate_depth == 1 && findings.duplicate_key == "id";
   if (auto id = document.find("id"); id != document.end() && !id_ambiguous) {
     const bool finite_number = id->is_number() && std::isfinite(id->get<double>());
     if (!id->is_string() && !finite_number && !id->is_null()) {
@@ -183,53 +158,17 @@ void restore_non_finite(json& value) {
   }
 }
 
-json parse_bounded(std::string_view text, ParseFindings& findings) {
-  findings = ParseFindings{};
-  // The keys seen so far in each open object. Once a container is dropped as too deep the
-  // parser still reports its keys against an outer object, but then too_deep is reported first.
-  std::vector<std::vector<std::string>> open_objects;
-  return json::parse(text.begin(), text.end(), [&](int depth, json::parse_event_t event, json& parsed) {
-    switch (event) {
-      case json::parse_event_t::object_start:
-      case json::parse_event_t::array_start:
-        if (depth >= kMaxDepth) {
-          findings.too_deep = true;
-          return false;
-        }
-        if (event == json::parse_event_t::object_start) open_objects.emplace_back();
-        return true;
-      case json::parse_event_t::key: {
-        if (open_objects.empty() || !parsed.is_string()) return true;
-        auto& keys = open_objects.back();
-        const auto& name = parsed.get_ref<const std::string&>();
-        if (std::find(keys.begin(), keys.end(), name) == keys.end()) {
-          keys.push_back(name);
-        } else if (!findings.duplicate_key) {
-          findings.duplicate_key = name;
-          findings.duplicate_at_top = depth == 1;
-        }
-        return true;
-      }
-      case json::parse_event_t::object_end:
-        if (!open_objects.empty()) open_objects.pop_back();
-        return true;
-      default:
-        return true;
-    }
-  });
-}
-
 std::variant<Request, Error> parse_line(std::string_view line) {
-  ParseFindings findings;
+  json_text::Findings findings;
   json document;
   try {
-    document = parse_bounded(line, findings);
+    document = json_text::parse(line, findings, kMaxDepth);
   } catch (const json::exception& error) {
-    const Error parse_error{kParseError, parse_error_message(error), nullptr};
+    const Error parse_error{kParseError, json_text::message(error), nullptr};
     const auto marked = mark_non_finite(line);
     if (!marked) return parse_error;
     try {
-      document = parse_bounded(*marked, findings);
+      document = json_text::parse(*marked, findings, kMaxDepth);
     } catch (const json::exception&) {
       return parse_error;
     }

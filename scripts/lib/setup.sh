@@ -3,15 +3,18 @@
 # run-time dependencies when some are missing, then configure and build.
 # Sourced, not executed. Needs REPO_ROOT set by the caller.
 
-readonly WHEELTEC_DEBIAN_PACKAGES=(
+# What building the programs needs.
+readonly WHEELTEC_BUILD_PACKAGES=(
   build-essential cmake ninja-build pkg-config
-  libboost-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libcli11-dev
-  libgtest-dev libgmock-dev libsystemd-dev
-  can-utils iproute2 kmod user-mode-linux socat
-  # the systemd suite (tests/systemd, scripts/systemd-uml): systemd as PID 1 in UML,
-  # cpack's .deb installed with dpkg, users made with useradd/usermod, runuser, jq
-  systemd dpkg-dev adduser passwd util-linux jq
+  libboost-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libcli11-dev libsystemd-dev
 )
+# What running them on a virtual CAN interface needs (the demo and the vcan tests):
+# scripts/vcan-run, natively or inside User-Mode Linux.
+readonly WHEELTEC_VCAN_PACKAGES=(can-utils iproute2 kmod user-mode-linux)
+# What only the tests need: GoogleTest, and for the systemd suite (tests/systemd,
+# scripts/systemd-uml) systemd as PID 1 in UML, cpack's .deb installed with dpkg, users
+# made with useradd/usermod, runuser, jq.
+readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd util-linux jq)
 
 # Prints the packages among the arguments that are not installed.
 missing_packages() {
@@ -47,8 +50,11 @@ install_packages() {
   DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
 }
 
+# The programs' build and vcan packages; with "tests", the tests' packages too.
 install_dependencies() {
-  install_packages "${WHEELTEC_DEBIAN_PACKAGES[@]}"
+  local packages=("${WHEELTEC_BUILD_PACKAGES[@]}" "${WHEELTEC_VCAN_PACKAGES[@]}")
+  [[ ${1:-} == tests ]] && packages+=("${WHEELTEC_TEST_PACKAGES[@]}")
+  install_packages "${packages[@]}"
 }
 
 # Configures a fresh build directory ($BUILD_DIR, default build/) and builds everything.
@@ -57,6 +63,7 @@ configure_and_build() {
   local build_type=${CMAKE_BUILD_TYPE:-RelWithDebInfo}
   local jobs=${BUILD_JOBS:-$(nproc 2>/dev/null || echo 2)}
   rm -rf -- "$BUILD_DIR"
-  cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE="$build_type"
+  cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" \
+    -DWHEELTEC_BUILD_TESTS="${WHEELTEC_BUILD_TESTS:-ON}"
   cmake --build "$BUILD_DIR" -j "$jobs"
 }

@@ -17,7 +17,7 @@ fi
 # come from the host installation; Boost's headers are multi-arch "same" and needed as
 # :arm64 for its arm64 CMake config files.
 install_packages crossbuild-essential-arm64 qemu-user file \
-  libboost-dev:arm64 libspdlog-dev:arm64 libfmt-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
+  libboost-dev:arm64 libspdlog-dev:arm64 libfmt-dev:arm64 libgtest-dev:arm64 \
   libsystemd-dev:arm64
 
 arm_build=$BUILD_DIR/arm64  # removed with the build directory

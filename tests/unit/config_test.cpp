@@ -418,12 +418,40 @@ TEST(ConfigValidate, ChecksValuesSetWithoutTheParser) {
 }
 
 TEST(ConfigValidate, MessagesShowTheAllowedRangeAndTheValue) {
-  EXPECT_EQ(config_error(R"({"api": {"max_clients": 5000}})"), "api.max_clients: must be an integer in [1, 1024], got 5000");
+  EXPECT_EQ(config_error(R"({"api": {"max_clients": 5000}})"), "api.max_clients: must be in [1, 1024], got 5000");
   EXPECT_EQ(config_error(R"({"control": {"rate_hz": 0}})"), "control.rate_hz: must be in [1, 1000], got 0");
   EXPECT_EQ(config_error(R"({"control": {"command_timeout_s": 0}})"),
             "control.command_timeout_s: must be in (0, 60], got 0");
   EXPECT_EQ(config_error(R"({"control": {"limits": {"vx": 33}}})"),
             "control.limits.vx: must be in (0, 32.767], got 33");
+}
+
+TEST(ConfigValidate, AValueIsCheckedWhereverItCameFrom) {
+  // The same rule and the same words for a value read from a file and one set in code.
+  GatewayConfig c;
+  c.api.max_clients = 5000;
+  EXPECT_EQ(validate_error(c), config_error(R"({"api": {"max_clients": 5000}})"));
+  c = {};
+  c.api.mode = 01777;
+  EXPECT_EQ(validate_error(c), config_error(R"({"api": {"mode": "1777"}})"));
+  c = {};
+  c.api.control_users = {"robot", ""};
+  EXPECT_EQ(validate_error(c), config_error(R"({"api": {"control_users": ["robot", ""]}})"));
+}
+
+TEST(ConfigParse, NestingDeeperThanAnyConfigIsRefused) {
+  std::string deep(20, '[');
+  deep += std::string(20, ']');
+  EXPECT_EQ(config_error(R"({"api": {"control_users": )" + deep + "}}"), "config: nested deeper than 16 levels");
+}
+
+TEST(ConfigError, CarriesTheKey) {
+  try {
+    (void)parse_config(R"({"control": {"limits": {"vx": "fast"}}})");
+    FAIL() << "no error";
+  } catch (const ConfigError& error) {
+    EXPECT_EQ(error.key(), "control.limits.vx");
+  }
 }
 
 TEST(ConfigToJson, DefaultsInTheFileShape) {

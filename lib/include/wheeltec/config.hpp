@@ -54,18 +54,29 @@ struct GatewayConfig {
 // "control.rate_hz: expected a number, got string" or "can.foo: unknown key".
 class ConfigError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit ConfigError(const std::string& message) : std::runtime_error(message) {}
+  ConfigError(std::string key, std::string_view problem);
+  // The key path the problem is about ("control.limits.vx"); empty when it is not about one key.
+  const std::string& key() const noexcept { return key_; }
+
+ private:
+  std::string key_;
 };
 
-// Parses JSON text (a config file) and merges it over `base`; throws ConfigError
-// (with line and column for syntax errors, the key path otherwise).
-GatewayConfig parse_config(std::string_view text, GatewayConfig base = {});
+// The JSON document of a config file; throws ConfigError for a syntax error (with line
+// and column), a duplicate key or nesting deeper than any config has.
+nlohmann::json parse_config_document(std::string_view text);
 
-// Merges an already parsed document over `config`; throws ConfigError.
+// Merges a document of the config file's shape over `config`, checking only that each
+// key is known and each value has the key's type; throws ConfigError.
 void apply_config(const nlohmann::json& document, GatewayConfig& config);
 
-// Range checks across the whole configuration; throws ConfigError naming the key.
+// The value checks (ranges, names, lengths) of the whole configuration, the one place
+// they live; throws ConfigError naming the key.
 void validate_config(const GatewayConfig& config);
+
+// All three: parses JSON text (a config file), merges it over `base` and validates the result.
+GatewayConfig parse_config(std::string_view text, GatewayConfig base = {});
 
 // The configuration as a complete JSON document of the config file's shape.
 nlohmann::json config_to_json(const GatewayConfig& config);

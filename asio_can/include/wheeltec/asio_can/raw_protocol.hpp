@@ -6,15 +6,18 @@
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 
+#include <cerrno>
 #include <cstddef>
 #include <cstring>
 #include <string>
 
 #include <boost/asio/basic_raw_socket.hpp>
-#include <boost/asio/detail/socket_option.hpp>
 #include <boost/system/error_code.hpp>
+
+#include "wheeltec/asio_can/socket_option.hpp"
 
 namespace wheeltec::asio_can {
 
@@ -24,7 +27,7 @@ class raw_protocol;
 class endpoint {
  public:
   using protocol_type = raw_protocol;
-  using data_type = boost::asio::detail::socket_addr_type;
+  using data_type = sockaddr;
 
   endpoint() noexcept { set_ifindex(0); }
   explicit endpoint(int ifindex) noexcept { set_ifindex(ifindex); }
@@ -74,6 +77,20 @@ inline int interface_index(const std::string& name, boost::system::error_code& e
   return static_cast<int>(index);
 }
 
+// True if the interface `name` is up (IFF_UP); asks the kernel through `socket`, which
+// may be any open socket.
+inline bool interface_is_up(raw_protocol::socket& socket, const std::string& name, boost::system::error_code& ec) {
+  ifreq request;
+  std::memset(&request, 0, sizeof(request));
+  std::strncpy(request.ifr_name, name.c_str(), IFNAMSIZ - 1);
+  if (::ioctl(socket.native_handle(), SIOCGIFFLAGS, &request) < 0) {
+    ec.assign(errno, boost::system::system_category());
+    return false;
+  }
+  ec.clear();
+  return (request.ifr_flags & IFF_UP) != 0;
+}
+
 namespace option {
 
 // CAN_RAW_FILTER with up to N filters (no allocation).
@@ -98,18 +115,18 @@ class filters {
 };
 
 // Which error classes (CAN_ERR_* bits) are delivered as error frames.
-using error_mask = boost::asio::detail::socket_option::integer<SOL_CAN_RAW, CAN_RAW_ERR_FILTER>;
+using error_mask = integer<SOL_CAN_RAW, CAN_RAW_ERR_FILTER>;
 // Whether frames sent by this host are looped back to other sockets on it.
-using loopback = boost::asio::detail::socket_option::boolean<SOL_CAN_RAW, CAN_RAW_LOOPBACK>;
+using loopback = boolean<SOL_CAN_RAW, CAN_RAW_LOOPBACK>;
 // Whether this socket receives the frames it sent itself.
-using receive_own_messages = boost::asio::detail::socket_option::boolean<SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS>;
+using receive_own_messages = boolean<SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS>;
 // Kernel receive timestamps (struct timespec) in ancillary data.
-using timestamp_ns = boost::asio::detail::socket_option::boolean<SOL_SOCKET, SO_TIMESTAMPNS>;
+using timestamp_ns = boolean<SOL_SOCKET, SO_TIMESTAMPNS>;
 // Kernel socket buffers.
-using receive_buffer_size = boost::asio::detail::socket_option::integer<SOL_SOCKET, SO_RCVBUF>;
-using send_buffer_size = boost::asio::detail::socket_option::integer<SOL_SOCKET, SO_SNDBUF>;
+using receive_buffer_size = integer<SOL_SOCKET, SO_RCVBUF>;
+using send_buffer_size = integer<SOL_SOCKET, SO_SNDBUF>;
 // SO_RCVBUF beyond net.core.rmem_max; needs CAP_NET_ADMIN (EPERM otherwise). Set only.
-using receive_buffer_size_force = boost::asio::detail::socket_option::integer<SOL_SOCKET, SO_RCVBUFFORCE>;
+using receive_buffer_size_force = integer<SOL_SOCKET, SO_RCVBUFFORCE>;
 
 }  // namespace option
 
