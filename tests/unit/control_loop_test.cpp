@@ -186,6 +186,12 @@ class ControlLoopTest : public ::testing::Test {
     changes_ = 0;
   }
 
+  static void expect_zero_then_disable(const std::vector<BusFrame>& frames) {
+    ASSERT_EQ(frames.size(), 2u);
+    EXPECT_EQ(frames[0].velocity, kZero);
+    EXPECT_EQ(frames[1].enable, false);
+  }
+
   Simulation sim_;
   GatewayConfig config_;
   ControlLoop loop_;
@@ -350,10 +356,7 @@ TEST_F(ControlLoopTest, DisableSendsZeroThenDisableAndStopsTheFrames) {
   loop_.drive(kAlice, kForward);
   sim_.take_frames();
   loop_.disable();
-  const auto frames = sim_.take_frames();
-  ASSERT_EQ(frames.size(), 2u);
-  EXPECT_EQ(frames[0].velocity, kZero);
-  EXPECT_EQ(frames[1].enable, false);
+  expect_zero_then_disable(sim_.take_frames());
   EXPECT_FALSE(loop_.enabled());
   EXPECT_EQ(sim_.guard_zero_id_, 0u) << "the stall guard is disarmed";
   EXPECT_EQ(loop_.drive(kAlice, kForward).outcome, DriveOutcome::control_disabled);
@@ -376,10 +379,7 @@ TEST_F(ControlLoopTest, ShutdownSendsZeroThenDisableAndNothingMore) {
   loop_.drive(kAlice, kForward);
   sim_.take_frames();
   loop_.shutdown();
-  const auto frames = sim_.take_frames();
-  ASSERT_EQ(frames.size(), 2u);
-  EXPECT_EQ(frames[0].velocity, kZero);
-  EXPECT_EQ(frames[1].enable, false);
+  expect_zero_then_disable(sim_.take_frames());
   sim_.advance(5s);
   EXPECT_TRUE(sim_.take_frames().empty());
 }
