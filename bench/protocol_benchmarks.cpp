@@ -48,7 +48,7 @@ BENCHMARK(BM_ControlFrameEncode);
 void BM_ReassembleAndDecodeRecord(benchmark::State& state) {
   const TelemetryGroup group = make_telemetry_group(encode_record(example_raw()));
   TelemetryReassembler reassembler;
-  std::chrono::nanoseconds time{1'763'800'000'000'000'000};
+  wheeltec::RealtimeNanos time{std::chrono::nanoseconds{1'763'800'000'000'000'000}};
   for (auto _ : state) {
     std::optional<AssembledRecord> assembled;
     for (std::size_t i = 0; i < group.count; ++i) {
@@ -69,7 +69,7 @@ BENCHMARK(BM_ReassembleAndDecodeRecord);
 void BM_TelemetryNotificationJson(benchmark::State& state) {
   TelemetrySample sample;
   sample.seq = 42;
-  sample.time = std::chrono::nanoseconds(1'763'800'000'123'456'000);
+  sample.time = wheeltec::RealtimeNanos(std::chrono::nanoseconds(1'763'800'000'123'456'000));
   sample.record = to_physical(example_raw());
   sample.odom = Pose{1.234567, -0.5, 0.75};
   std::string line;

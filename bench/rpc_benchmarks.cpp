@@ -17,6 +17,7 @@
 #include "can_link.hpp"
 #include "chassis_monitor.hpp"
 #include "client_state.hpp"
+#include "control_io.hpp"
 #include "control_loop.hpp"
 #include "rpc_handler.hpp"
 #include "status_report.hpp"
@@ -58,7 +59,8 @@ void BM_StatusRequestThroughRpcHandler(benchmark::State& state) {
   config.can.interface = "bench-none";
   daemon::CanLink link(io, config.can.interface);
   daemon::ChassisMonitor chassis(io, std::chrono::milliseconds(500), config.telemetry.low_battery_v);
-  daemon::ControlLoop control(io, link, config);
+  daemon::ControlIo control_io(io, link, config.control.rate_hz);
+  daemon::ControlLoop control(control_io.ports(), config);
   daemon::ApiCounters counters;
   const daemon::StatusIdentity identity{config.can.interface, config.chassis.type, config.can.dialect};
   daemon::RpcHandler handler(

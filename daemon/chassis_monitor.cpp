@@ -10,7 +10,7 @@ namespace wheeltec::daemon {
 ChassisMonitor::ChassisMonitor(boost::asio::io_context& io, std::chrono::nanoseconds timeout, double low_battery_v)
     : offline_timer_(io), timeout_(timeout), low_battery_v_(low_battery_v) {}
 
-void ChassisMonitor::feed(const CanFrame& frame, std::chrono::nanoseconds time) {
+void ChassisMonitor::feed(const CanFrame& frame, RealtimeNanos time) {
   if (const auto assembled = reassembler_.feed(frame, time)) accept(*assembled);
 }
 

@@ -10,6 +10,7 @@
 
 #include "wheeltec/attitude_filter.hpp"
 #include "wheeltec/can_frame.hpp"
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/chassis_phase.hpp"
 #include "wheeltec/odometry.hpp"
 #include "wheeltec/telemetry_json.hpp"
@@ -34,7 +35,7 @@ class ChassisMonitor {
   void on_stage(StageHandler handler) { stage_handler_ = std::move(handler); }
 
   // A frame from the CAN link, with its kernel receive time (since the epoch).
-  void feed(const CanFrame& frame, std::chrono::nanoseconds time);
+  void feed(const CanFrame& frame, RealtimeNanos time);
 
   // The link went down: drop any partial group.
   void link_lost();

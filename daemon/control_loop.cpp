@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
-#include <boost/asio/error.hpp>
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/kinematics.hpp"
@@ -13,32 +13,20 @@ namespace wheeltec::daemon {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-// Seconds from the configuration as a clock duration; at least 1 ms so that no timer spins.
-Clock::duration seconds_to_duration(double seconds) {
+// Seconds from the configuration as a duration; at least 1 ms so that no timer spins.
+std::chrono::nanoseconds seconds_to_duration(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0.001) seconds = 0.001;
-  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(seconds));
 }
-
-Nanos seconds_to_nanos(double seconds) { return std::chrono::duration_cast<Nanos>(seconds_to_duration(seconds)); }
 
 bool same_velocity(const ControlCommand& a, const ControlCommand& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 }  // namespace
 
-ControlLoop::ControlLoop(boost::asio::io_context& io, CanLink& link, const GatewayConfig& config)
-    : link_(link),
-      config_(config),
-      arbiter_(seconds_to_nanos(config.control.command_timeout_s)),
-      period_timer_(io),
-      stall_sentinel_(link.interface(), StallSentinel::timing_for_rate(config.control.rate_hz)),
-      enable_timer_(io),
-      deadman_timer_(io) {
-  period_timer_.on_tick([this] { on_period(); });
+ControlLoop::ControlLoop(const ControlPorts& ports, const GatewayConfig& config)
+    : ports_(ports), config_(config), arbiter_(seconds_to_duration(config.control.command_timeout_s)) {
+  ports_.period_timer.on_tick([this] { on_period(); });
 }
-
-Nanos ControlLoop::now() const { return std::chrono::duration_cast<Nanos>(Clock::now().time_since_epoch()); }
 
 Velocity ControlLoop::target() const { return command_velocity(command_); }
 
@@ -64,19 +52,36 @@ bool ControlLoop::update_command() {
 }
 
 void ControlLoop::send_control() {
-  if (link_.state() == BusState::down) return;  // nothing to send to; link_came_up() catches up
-  if (link_.send(encode_control_frame(config_.can.dialect, sent_command_))) zero_pending_ = false;
+  if (ports_.bus.bus_down()) return;  // nothing to send to; link_came_up() catches up
+  if (ports_.bus.send(encode_control_frame(config_.can.dialect, sent_command_))) zero_pending_ = false;
 }
 
 void ControlLoop::send_enable(bool enable) {
-  if (config_.can.dialect != Dialect::manual || link_.state() == BusState::down) return;
-  link_.send(encode_enable_frame(enable));
+  if (config_.can.dialect != Dialect::manual || ports_.bus.bus_down()) return;
+  ports_.bus.send(encode_enable_frame(enable));
 }
 
-void ControlLoop::notify_if_changed(bool was_enabled, std::optional<ClientId> previous_owner,
-                                    const ControlCommand& previous) {
-  if (was_enabled == enabled_ && previous_owner == arbiter_.owner() && same_velocity(previous, command_)) return;
-  if (change_handler_) change_handler_();
+ControlLoop::Observed ControlLoop::observed() const { return {enabled_, arbiter_.owner(), command_}; }
+
+template <class Change>
+auto ControlLoop::notifying(Change&& change) {
+  const Observed before = observed();
+  const auto notify_if_changed = [&] {
+    const Observed after = observed();
+    if (before.enabled == after.enabled && before.owner == after.owner &&
+        same_velocity(before.command, after.command)) {
+      return;
+    }
+    if (change_handler_) change_handler_();
+  };
+  if constexpr (std::is_void_v<std::invoke_result_t<Change>>) {
+    change();
+    notify_if_changed();
+  } else {
+    auto result = change();
+    notify_if_changed();
+    return result;
+  }
 }
 
 void ControlLoop::start() {
@@ -84,13 +89,13 @@ void ControlLoop::start() {
   started_ = true;
   // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
   send_control();
-  stall_sentinel_.start();
+  ports_.stall_guard.start();
   if (config_.control.auto_enable) enable();
 }
 
 DriveResult ControlLoop::drive(ClientId client, const Velocity& target) {
   DriveResult result;
-  if (link_.state() == BusState::down) {
+  if (ports_.bus.bus_down()) {
     result.outcome = DriveOutcome::bus_down;
     return result;
   }
@@ -98,28 +103,26 @@ DriveResult ControlLoop::drive(ClientId client, const Velocity& target) {
     result.outcome = DriveOutcome::control_disabled;
     return result;
   }
-  const auto previous_owner = arbiter_.owner();
-  const ControlCommand previous = command_;
-  if (!arbiter_.try_drive(client, target, now())) {
-    result.outcome = DriveOutcome::control_held;
+  return notifying([&] {
+    if (!arbiter_.try_drive(client, target, ports_.clock.now())) {
+      result.outcome = DriveOutcome::control_held;
+      return result;
+    }
+    if (update_command()) send_control();  // the periodic schedule carries on unchanged
+    arm_deadman();
+    result.sent = command_velocity(command_);
+    result.clamped = command_.clamped;
     return result;
-  }
-  if (update_command()) send_control();  // the periodic schedule carries on unchanged
-  arm_deadman();
-  result.sent = command_velocity(command_);
-  result.clamped = command_.clamped;
-  notify_if_changed(enabled_, previous_owner, previous);
-  return result;
+  });
 }
 
 void ControlLoop::stop() {
-  const auto previous_owner = arbiter_.owner();
-  const ControlCommand previous = command_;
-  arbiter_.stop();
-  cancel_deadman();
-  update_command();
-  send_control();  // always, even when the target already was zero
-  notify_if_changed(enabled_, previous_owner, previous);
+  notifying([&] {
+    arbiter_.stop();
+    cancel_deadman();
+    update_command();
+    send_control();  // always, even when the target already was zero
+  });
 }
 
 void ControlLoop::enable() {
@@ -128,42 +131,41 @@ void ControlLoop::enable() {
     send_enable(true);
     return;
   }
-  enabled_ = true;
-  spdlog::info("control enabled");
-  send_enable(true);
-  send_control();
-  start_periodic();
-  beat_stall_sentinel();
-  start_enable_refresh();
-  if (change_handler_) change_handler_();
+  notifying([&] {
+    enabled_ = true;
+    spdlog::info("control enabled");
+    send_enable(true);
+    send_control();
+    start_periodic();
+    beat_stall_guard();
+    start_enable_refresh();
+  });
 }
 
 void ControlLoop::disable() {
-  const bool was_enabled = enabled_;
-  const auto previous_owner = arbiter_.owner();
-  const ControlCommand previous = command_;
-  arbiter_.stop();
-  cancel_deadman();
-  update_command();
-  send_control();
-  send_enable(false);
-  period_timer_.stop();
-  stall_sentinel_.disarm();
-  enable_timer_.cancel();
-  enabled_ = false;
-  if (was_enabled) spdlog::info("control disabled");
-  notify_if_changed(was_enabled, previous_owner, previous);
+  notifying([&] {
+    const bool was_enabled = enabled_;
+    arbiter_.stop();
+    cancel_deadman();
+    update_command();
+    send_control();
+    send_enable(false);
+    ports_.period_timer.stop();
+    ports_.stall_guard.disarm();
+    ports_.enable_timer.cancel();
+    enabled_ = false;
+    if (was_enabled) spdlog::info("control disabled");
+  });
 }
 
 void ControlLoop::client_gone(ClientId client) {
-  const auto previous_owner = arbiter_.owner();
-  const ControlCommand previous = command_;
-  if (!arbiter_.release(client)) return;
-  spdlog::info("client {} gone while holding control: zero velocity", client);
-  cancel_deadman();
-  update_command();
-  send_control();
-  notify_if_changed(enabled_, previous_owner, previous);
+  notifying([&] {
+    if (!arbiter_.release(client)) return;
+    spdlog::info("client {} gone while holding control: zero velocity", client);
+    cancel_deadman();
+    update_command();
+    send_control();
+  });
 }
 
 void ControlLoop::chassis_came_online() {
@@ -181,9 +183,9 @@ void ControlLoop::link_came_up() {
 }
 
 void ControlLoop::shutdown() {
-  period_timer_.stop();
-  stall_sentinel_.disarm();
-  enable_timer_.cancel();
+  ports_.period_timer.stop();
+  ports_.stall_guard.disarm();
+  ports_.enable_timer.cancel();
   cancel_deadman();
   arbiter_.stop();
   update_command();
@@ -194,21 +196,20 @@ void ControlLoop::shutdown() {
 }
 
 void ControlLoop::apply(const GatewayConfig& config) {
-  const auto previous_owner = arbiter_.owner();
-  const ControlCommand previous = command_;
-  const bool dialect_changed = config.can.dialect != config_.can.dialect;
-  const bool period_changed = config.control.rate_hz != config_.control.rate_hz;
-  const bool refresh_changed = config.control.enable_refresh_s != config_.control.enable_refresh_s;
-  config_ = config;
-  arbiter_.set_command_timeout(seconds_to_nanos(config_.control.command_timeout_s));
-  // New limits or Z mode apply to the current target at once.
-  if (update_command() && enabled_) send_control();
-  if (enabled_ && period_changed) start_periodic();
-  if (enabled_ && (refresh_changed || dialect_changed)) start_enable_refresh();
-  notify_if_changed(enabled_, previous_owner, previous);
+  notifying([&] {
+    const bool dialect_changed = config.can.dialect != config_.can.dialect;
+    const bool period_changed = config.control.rate_hz != config_.control.rate_hz;
+    const bool refresh_changed = config.control.enable_refresh_s != config_.control.enable_refresh_s;
+    config_ = config;
+    arbiter_.set_command_timeout(seconds_to_duration(config_.control.command_timeout_s));
+    // New limits or Z mode apply to the current target at once.
+    if (update_command() && enabled_) send_control();
+    if (enabled_ && period_changed) start_periodic();
+    if (enabled_ && (refresh_changed || dialect_changed)) start_enable_refresh();
+  });
 }
 
-void ControlLoop::start_periodic() { period_timer_.start(seconds_to_duration(1.0 / config_.control.rate_hz)); }
+void ControlLoop::start_periodic() { ports_.period_timer.start(seconds_to_duration(1.0 / config_.control.rate_hz)); }
 
 void ControlLoop::on_period() {
   if (!enabled_ || shut_down_) return;
@@ -216,30 +217,28 @@ void ControlLoop::on_period() {
   // this one first: a lapsed target must not go out in a periodic frame. Without an owner
   // there is no deadline, and no need to read the clock.
   if (!arbiter_.deadline() || !release_if_lapsed()) send_control();
-  beat_stall_sentinel();
+  beat_stall_guard();
 }
 
-void ControlLoop::beat_stall_sentinel() {
-  stall_sentinel_.beat(encode_control_frame(config_.can.dialect, ControlCommand{}).id);
+void ControlLoop::beat_stall_guard() {
+  ports_.stall_guard.beat(encode_control_frame(config_.can.dialect, ControlCommand{}).id);
 }
 
 void ControlLoop::start_enable_refresh() {
   if (config_.can.dialect != Dialect::manual) {
-    enable_timer_.cancel();
+    ports_.enable_timer.cancel();
     return;
   }
   enable_refresh_ = seconds_to_duration(config_.control.enable_refresh_s);
-  next_enable_ = Clock::now() + enable_refresh_;
+  next_enable_ = ports_.clock.now() + enable_refresh_;
   arm_enable_timer();
 }
 
 void ControlLoop::arm_enable_timer() {
-  enable_timer_.expires_at(next_enable_);
-  enable_timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (ec == boost::asio::error::operation_aborted || !enabled_ || shut_down_) return;
-    if (config_.can.dialect != Dialect::manual) return;
+  ports_.enable_timer.wait_until(next_enable_, [this] {
+    if (!enabled_ || shut_down_ || config_.can.dialect != Dialect::manual) return;
     send_enable(true);
-    const auto current = Clock::now();
+    const auto current = ports_.clock.now();
     next_enable_ += enable_refresh_;
     if (next_enable_ <= current) next_enable_ = current + enable_refresh_;
     arm_enable_timer();
@@ -247,8 +246,8 @@ void ControlLoop::arm_enable_timer() {
 }
 
 void ControlLoop::cancel_deadman() {
-  deadman_timer_.cancel();
-  deadman_waiting_ = false;
+  ports_.deadman_timer.cancel();
+  deadman_expiry_.reset();
 }
 
 void ControlLoop::arm_deadman() {
@@ -257,32 +256,29 @@ void ControlLoop::arm_deadman() {
     cancel_deadman();
     return;
   }
-  const auto expiry = Clock::time_point(std::chrono::duration_cast<Clock::duration>(*deadline));
   // Each drive moves the deadline later. Cancelling and re-arming the timer every time would
   // cost the event loop an extra turn per request (the cancelled wait's completion), so the
   // wait under way is left to fire at the earlier deadline and re-armed from there.
-  if (deadman_waiting_ && deadman_timer_.expiry() <= expiry) return;
-  deadman_timer_.expires_at(expiry);
-  deadman_waiting_ = true;
-  deadman_timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (ec == boost::asio::error::operation_aborted) return;
-    deadman_waiting_ = false;
+  if (deadman_expiry_ && *deadman_expiry_ <= *deadline) return;
+  deadman_expiry_ = *deadline;
+  ports_.deadman_timer.wait_until(*deadline, [this] {
+    deadman_expiry_.reset();
     // Not lapsed: a drive moved the deadline since the wait was armed.
     if (!release_if_lapsed() && arbiter_.deadline()) arm_deadman();
   });
 }
 
 bool ControlLoop::release_if_lapsed() {
-  const auto previous_owner = arbiter_.owner();
-  const ControlCommand previous = command_;
-  if (!arbiter_.expire(now())) return false;
-  spdlog::info("client {} stopped driving for {:g} s: zero velocity, control released", previous_owner.value_or(0),
-               config_.control.command_timeout_s);
-  cancel_deadman();
-  update_command();
-  send_control();
-  notify_if_changed(enabled_, previous_owner, previous);
-  return true;
+  return notifying([&] {
+    const auto owner = arbiter_.owner();
+    if (!arbiter_.expire(ports_.clock.now())) return false;
+    spdlog::info("client {} stopped driving for {:g} s: zero velocity, control released", owner.value_or(0),
+                 config_.control.command_timeout_s);
+    cancel_deadman();
+    update_command();
+    send_control();
+    return true;
+  });
 }
 
 }  // namespace wheeltec::daemon

@@ -4,16 +4,12 @@
 #include <functional>
 #include <optional>
 
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/steady_timer.hpp>
-
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/config.hpp"
 #include "wheeltec/control_arbiter.hpp"
 #include "wheeltec/control_frame.hpp"
 
-#include "can_link.hpp"
-#include "periodic_timer.hpp"
-#include "stall_sentinel.hpp"
+#include "control_ports.hpp"
 
 namespace wheeltec::daemon {
 
@@ -31,12 +27,13 @@ struct DriveResult {
 // enable frame when control becomes enabled and every enable_refresh_s (manual dialect),
 // the first control frame zero, ownership and the deadman (a timer at the owner's deadline,
 // no polling), zero then disable on shutdown; and, while control is enabled, a zero frame
-// that a process of its own sends if the daemon stops sending (StallSentinel).
+// that a process of its own sends if the daemon stops sending (the stall guard).
 class ControlLoop {
  public:
   using ChangeHandler = std::function<void()>;  // enabled, owner or target changed
 
-  ControlLoop(boost::asio::io_context& io, CanLink& link, const GatewayConfig& config);
+  // The ports must outlive the loop.
+  ControlLoop(const ControlPorts& ports, const GatewayConfig& config);
 
   void on_change(ChangeHandler handler) { change_handler_ = std::move(handler); }
 
@@ -62,9 +59,13 @@ class ControlLoop {
   Velocity target() const;  // as sent (quantized), SI units
 
  private:
-  using Clock = std::chrono::steady_clock;
+  // What the change handler reports on.
+  struct Observed {
+    bool enabled;
+    std::optional<ClientId> owner;
+    ControlCommand command;
+  };
 
-  Nanos now() const;
   ControlCommand frame_command(const ControlCommand& command) const;
   // Quantizes the arbiter's target into command_ and sent_command_; true if the frame changed.
   bool update_command();
@@ -72,17 +73,20 @@ class ControlLoop {
   void send_enable(bool enable);
   void start_periodic();
   void on_period();
-  // Tells the stall sentinel that a control period went out.
-  void beat_stall_sentinel();
+  // Tells the stall guard that a control period went out.
+  void beat_stall_guard();
   void start_enable_refresh();
   void arm_enable_timer();
   void arm_deadman();
   void cancel_deadman();
   // If the owner's deadline has passed: zero frame, control released; true if so.
   bool release_if_lapsed();
-  void notify_if_changed(bool was_enabled, std::optional<ClientId> previous_owner, const ControlCommand& previous);
+  Observed observed() const;
+  // Runs `change`, then calls the change handler if what it reports on changed.
+  template <class Change>
+  auto notifying(Change&& change);
 
-  CanLink& link_;
+  ControlPorts ports_;
   GatewayConfig config_;
   ControlArbiter arbiter_;
   ControlCommand command_;        // the target in the API's terms (Z a yaw rate), quantized
@@ -91,13 +95,9 @@ class ControlLoop {
   bool started_ = false;
   bool shut_down_ = false;
   bool zero_pending_ = true;      // the start-up zero frame has not reached the kernel yet
-  Clock::duration enable_refresh_{};
-  Clock::time_point next_enable_{};
-  PeriodicTimer period_timer_;
-  StallSentinel stall_sentinel_;
-  boost::asio::steady_timer enable_timer_;
-  boost::asio::steady_timer deadman_timer_;
-  bool deadman_waiting_ = false;  // a wait of deadman_timer_ is under way
+  std::chrono::nanoseconds enable_refresh_{};
+  MonotonicNanos next_enable_{};
+  std::optional<MonotonicNanos> deadman_expiry_;  // of the deadman timer's wait under way
   ChangeHandler change_handler_;
 };
 

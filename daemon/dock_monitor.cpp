@@ -8,7 +8,7 @@
 namespace wheeltec::daemon {
 namespace {
 
-Nanos steady_now() { return std::chrono::steady_clock::now().time_since_epoch(); }
+MonotonicNanos steady_now() { return std::chrono::steady_clock::now(); }
 
 }  // namespace
 
@@ -29,8 +29,7 @@ bool DockMonitor::feed(const CanFrame& frame) {
 // Not moved on each report: when it fires it re-arms for what is left of the newest one's timeout.
 void DockMonitor::arm_expiry_timer() {
   expiry_timer_armed_ = true;
-  expiry_timer_.expires_at(std::chrono::steady_clock::time_point(
-      std::chrono::duration_cast<std::chrono::steady_clock::duration>(presence_.deadline())));
+  expiry_timer_.expires_at(presence_.deadline());
   expiry_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec == boost::asio::error::operation_aborted) return;
     expiry_timer_armed_ = false;

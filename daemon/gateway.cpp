@@ -35,7 +35,8 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
       link_(io, config_.can.interface),
       chassis_(io, seconds_to_nanos(config_.telemetry.timeout_s), config_.telemetry.low_battery_v),
       dock_(io),
-      control_(io, link_, config_),
+      control_io_(io, link_, config_.control.rate_hz),
+      control_(control_io_.ports(), config_),
       rpc_(control_, chassis_, config_.chassis.type, api_counters_, [this] { return status_json(); },
            [this] { return stats_json(); }),
       api_(io, config_.api, access.socket_group, std::move(access.control_policy), rpc_, api_counters_),
@@ -44,7 +45,7 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
 
 void Gateway::start() {
   link_.on_frame([this](const asio_can::ReceivedFrame& received) {
-    if (!dock_.feed(received.frame)) chassis_.feed(received.frame, received.time);
+    if (!dock_.feed(received.frame)) chassis_.feed(received.frame, RealtimeNanos(received.time));
   });
   link_.on_batch_handled([this] { api_.flush_telemetry(); });
   link_.on_state([this](BusState state) { on_bus_state(state); });

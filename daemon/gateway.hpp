@@ -14,6 +14,7 @@
 #include "api_server.hpp"
 #include "can_link.hpp"
 #include "chassis_monitor.hpp"
+#include "control_io.hpp"
 #include "control_loop.hpp"
 #include "dock_monitor.hpp"
 #include "options.hpp"
@@ -58,6 +59,7 @@ class Gateway {
   ChassisMonitor chassis_;
   DockMonitor dock_;
   CommandResponseMonitor command_response_;
+  ControlIo control_io_;
   ControlLoop control_;
   RpcHandler rpc_;
   ApiServer api_;

@@ -20,7 +20,7 @@ int open_timerfd() {
   return fd;
 }
 
-timespec to_timespec(PeriodicTimer::Clock::duration duration) {
+timespec to_timespec(std::chrono::nanoseconds duration) {
   const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(duration);
   const auto nanos = std::chrono::duration_cast<std::chrono::nanoseconds>(duration - seconds);
   return timespec{static_cast<time_t>(seconds.count()), static_cast<long>(nanos.count())};
@@ -30,9 +30,9 @@ timespec to_timespec(PeriodicTimer::Clock::duration duration) {
 
 PeriodicTimer::PeriodicTimer(boost::asio::io_context& io) : timer_(io, open_timerfd()) {}
 
-void PeriodicTimer::start(Clock::duration period) {
+void PeriodicTimer::start(std::chrono::nanoseconds period) {
   // A zero it_value would disarm the timer rather than fire at once.
-  if (period <= Clock::duration::zero()) period = std::chrono::nanoseconds(1);
+  if (period <= std::chrono::nanoseconds::zero()) period = std::chrono::nanoseconds(1);
   set(period, period);
   running_ = true;
   if (!reading_) read_expirations();
@@ -42,10 +42,10 @@ void PeriodicTimer::stop() {
   if (!running_) return;
   running_ = false;
   // The read stays armed: it does not complete while the timer is disarmed.
-  set(Clock::duration::zero(), Clock::duration::zero());
+  set(std::chrono::nanoseconds::zero(), std::chrono::nanoseconds::zero());
 }
 
-void PeriodicTimer::set(Clock::duration first, Clock::duration interval) {
+void PeriodicTimer::set(std::chrono::nanoseconds first, std::chrono::nanoseconds interval) {
   const itimerspec spec{to_timespec(interval), to_timespec(first)};
   if (::timerfd_settime(timer_.native_handle(), 0, &spec, nullptr) < 0) {
     throw std::system_error(errno, std::system_category(), "timerfd_settime");

@@ -33,7 +33,7 @@ EmulatorSettings model_settings(const EmulatorOptions& options, std::uint32_t se
   settings.ackermann_z = options.ackermann_z;
   settings.geometry = options.geometry;
   settings.wheel = options.wheel;
-  settings.boot_delay = from_seconds<Nanos>(options.boot_delay_s);
+  settings.boot_delay = from_seconds<std::chrono::nanoseconds>(options.boot_delay_s);
   settings.self_test = options.self_test;
   settings.tilt = options.tilt;
   settings.supply = options.supply;

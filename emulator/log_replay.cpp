@@ -41,14 +41,14 @@ void LogReplay::start_pass() {
 }
 
 void LogReplay::schedule_next() {
-  const Nanos offset = log_.frames[next_].time - log_.frames.front().time;
+  const std::chrono::nanoseconds offset = log_.frames[next_].time - log_.frames.front().time;
   timer_.expires_at(pass_start_ + std::chrono::duration_cast<Clock::duration>(offset));
   timer_.async_wait([this](const boost::system::error_code& ec) { send_due_frames(ec); });
 }
 
 void LogReplay::send_due_frames(const boost::system::error_code& ec) {
   if (ec) return;
-  const Nanos due = std::chrono::duration_cast<Nanos>(Clock::now() - pass_start_);
+  const std::chrono::nanoseconds due = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - pass_start_);
   for (; next_ < log_.frames.size() && log_.frames[next_].time - log_.frames.front().time <= due; ++next_) {
     boost::system::error_code send_error;
     if (!asio_can::send_frame(socket_, log_.frames[next_].frame, send_error)) {

@@ -58,7 +58,7 @@ void check_dock_report(const wheeltec::CanFrame& frame) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   wheeltec::TelemetryReassembler reassembler;
-  wheeltec::Nanos time{1'700'000'000'000'000'000};
+  wheeltec::RealtimeNanos time{std::chrono::nanoseconds{1'700'000'000'000'000'000}};
   std::uint64_t accepted = 0;
   std::string json;
   for (std::size_t offset = 0; offset + kFrameBytes <= size; offset += kFrameBytes) {

@@ -65,6 +65,7 @@
 #include "api_server.hpp"
 #include "can_link.hpp"
 #include "chassis_monitor.hpp"
+#include "control_io.hpp"
 #include "control_loop.hpp"
 #include "control_policy.hpp"
 #include "rpc_handler.hpp"
@@ -139,7 +140,8 @@ class DaemonPath final : public GatewayUnderTest {
       : config_(config_for(socket)),
         link_(io_, "unused"),
         chassis_(io_, std::chrono::seconds(1), 20.0),
-        control_(io_, link_, config_),
+        control_io_(io_, link_, config_.control.rate_hz),
+        control_(control_io_.ports(), config_),
         rpc_(control_, chassis_, config_.chassis.type, counters_, [] { return json::object(); },
              [] { return json::object(); }),
         api_(io_, config_.api, std::nullopt, ControlPolicy(config_.api, ::getuid()), rpc_, counters_),
@@ -180,9 +182,8 @@ class DaemonPath final : public GatewayUnderTest {
  private:
   void on_frames(std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
     for (const asio_can::ReceivedFrame& received : frames) {
-      chassis_.feed(received.frame, received.time.count() != 0
-                                        ? received.time
-                                        : std::chrono::system_clock::now().time_since_epoch());
+      chassis_.feed(received.frame, received.time.count() != 0 ? RealtimeNanos(received.time)
+                                                               : RealtimeNanos(std::chrono::system_clock::now()));
     }
     api_.flush_telemetry();  // as Gateway does after each batch (CanLink::on_batch_handled)
     if (!ec) reader_.start();
@@ -194,6 +195,7 @@ class DaemonPath final : public GatewayUnderTest {
   ApiCounters counters_;
   CanLink link_;  // never started: the ControlLoop (and so the RpcHandler) needs one
   ChassisMonitor chassis_;
+  ControlIo control_io_;
   ControlLoop control_;
   RpcHandler rpc_;
   ApiServer api_;

@@ -38,7 +38,7 @@ std::string_view next_field(std::string_view& rest) {
 }
 
 // "(SECONDS.MICROSECONDS)"
-std::optional<Nanos> parse_timestamp(std::string_view field) {
+std::optional<RealtimeNanos> parse_timestamp(std::string_view field) {
   if (field.size() < 3 || field.front() != '(' || field.back() != ')') return std::nullopt;
   field = field.substr(1, field.size() - 2);
   const std::size_t dot = field.find('.');
@@ -49,7 +49,7 @@ std::optional<Nanos> parse_timestamp(std::string_view field) {
   if (!seconds || !fraction_value || fraction.size() > 9 || *seconds > 1'000'000'000'000ULL) return std::nullopt;
   std::uint64_t nanos = *fraction_value;
   for (std::size_t digits = fraction.size(); digits < 9; ++digits) nanos *= 10;
-  return std::chrono::seconds(*seconds) + Nanos(nanos);
+  return RealtimeNanos(std::chrono::seconds(*seconds) + std::chrono::nanoseconds(nanos));
 }
 
 std::optional<std::string> parse_data(std::string_view text, CanFrame& frame) {
@@ -77,7 +77,7 @@ std::optional<std::string> parse_data(std::string_view text, CanFrame& frame) {
   return std::nullopt;
 }
 
-LineResult parse_frame(std::string_view field, Nanos time) {
+LineResult parse_frame(std::string_view field, RealtimeNanos time) {
   const std::size_t hash = field.find('#');
   if (hash == std::string_view::npos) return std::string("no '#' between ID and data");
   const std::string_view id_text = field.substr(0, hash);
@@ -96,7 +96,7 @@ LineResult parse_frame(std::string_view field, Nanos time) {
 
 LineResult parse_line(std::string_view line) {
   std::string_view rest = line;
-  const std::optional<Nanos> time = parse_timestamp(next_field(rest));
+  const std::optional<RealtimeNanos> time = parse_timestamp(next_field(rest));
   if (!time) return std::string("expected a timestamp such as (1700000000.123456)");
   if (next_field(rest).empty()) return std::string("no interface name");
   const std::string_view frame = next_field(rest);

@@ -16,7 +16,7 @@ constexpr double kAccelLsbPerMps2Exact = kAccelLsbPerG / kGravity;
 constexpr double kNominalCellV = 3.7;
 constexpr double kFullCellV = 4.2;
 
-double seconds(Nanos duration) { return std::chrono::duration<double>(duration).count(); }
+double seconds(std::chrono::nanoseconds duration) { return std::chrono::duration<double>(duration).count(); }
 
 std::int16_t saturate_int16(double value) {
   constexpr double kMin = std::numeric_limits<std::int16_t>::min();
@@ -63,7 +63,7 @@ ChassisEmulator::ChassisEmulator(const EmulatorSettings& settings)
   gyro_z_bias_lsb_ = noise(settings.noise.gyro_z_bias_lsb);
 }
 
-AdvanceEvents ChassisEmulator::advance_to(Nanos now) {
+AdvanceEvents ChassisEmulator::advance_to(std::chrono::nanoseconds now) {
   AdvanceEvents events;
   while (time_ + settings_.wheel.period <= now) {
     const ControllerPhase before = phase();

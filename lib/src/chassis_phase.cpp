@@ -45,7 +45,7 @@ ChassisStage ChassisPhaseTracker::update(const PhaseInput& record) {
 
 ChassisStage ChassisPhaseTracker::next_stage(const PhaseInput& record, bool after_silence) const {
   if (after_silence) return record.stopped ? ChassisStage::booting : ChassisStage::ready;
-  const Nanos since_change = record.time - flag_stop_changed_;
+  const std::chrono::nanoseconds since_change = record.time - flag_stop_changed_;
   switch (*stage_) {
     case ChassisStage::booting:
       if (!record.stopped) return shows_motion(record.measured) ? ChassisStage::self_test_driving

@@ -13,7 +13,7 @@ bool commands_motion(const Velocity& commanded) {
 }
 
 CommandResponse CommandResponseMonitor::update(const Velocity& commanded, bool stopped, const Velocity& measured,
-                                               Nanos time) {
+                                               RealtimeNanos time) {
   if (!commands_motion(commanded)) {
     state_ = CommandResponse::idle;
     awaiting_since_.reset();

@@ -2,9 +2,9 @@
 
 namespace wheeltec {
 
-ControlArbiter::ControlArbiter(Nanos command_timeout) : timeout_(command_timeout) {}
+ControlArbiter::ControlArbiter(std::chrono::nanoseconds command_timeout) : timeout_(command_timeout) {}
 
-bool ControlArbiter::try_drive(ClientId client, const Velocity& target, Nanos now) {
+bool ControlArbiter::try_drive(ClientId client, const Velocity& target, MonotonicNanos now) {
   if (owner_ && *owner_ != client) return false;
   owner_ = client;
   target_ = target;
@@ -24,7 +24,7 @@ bool ControlArbiter::release(ClientId client) {
   return true;
 }
 
-bool ControlArbiter::expire(Nanos now) {
+bool ControlArbiter::expire(MonotonicNanos now) {
   if (!owner_ || now < *deadline_) return false;
   stop();
   return true;

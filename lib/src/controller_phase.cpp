@@ -2,11 +2,11 @@
 
 namespace wheeltec {
 
-Nanos running_from(Nanos boot_delay, SelfTest self_test) {
+std::chrono::nanoseconds running_from(std::chrono::nanoseconds boot_delay, SelfTest self_test) {
   return self_test == SelfTest::drive ? boot_delay + kSelfTestDriveTime + kSelfTestStopTime : boot_delay;
 }
 
-ControllerPhase controller_phase(Nanos since_power_on, Nanos boot_delay, SelfTest self_test) {
+ControllerPhase controller_phase(std::chrono::nanoseconds since_power_on, std::chrono::nanoseconds boot_delay, SelfTest self_test) {
   if (since_power_on < boot_delay) return ControllerPhase::booting;
   if (since_power_on >= running_from(boot_delay, self_test)) return ControllerPhase::running;
   if (since_power_on < boot_delay + kSelfTestDriveTime) return ControllerPhase::self_test_drive;

@@ -22,12 +22,12 @@ std::optional<ChargingDockState> decode_dock_report(const CanFrame& frame) {
   return state;
 }
 
-void DockPresence::heard(const ChargingDockState& report, Nanos now) {
+void DockPresence::heard(const ChargingDockState& report, MonotonicNanos now) {
   report_ = report;
   last_heard_ = now;
 }
 
-bool DockPresence::expire(Nanos now) {
+bool DockPresence::expire(MonotonicNanos now) {
   if (!report_ || now < deadline()) return false;
   report_.reset();
   return true;

@@ -14,9 +14,9 @@ double normalize_angle(double angle) {
 
 }  // namespace
 
-Odometry::Odometry(Nanos max_step) : max_step_(max_step) {}
+Odometry::Odometry(std::chrono::nanoseconds max_step) : max_step_(max_step) {}
 
-void Odometry::update(const Velocity& measured, Nanos time) {
+void Odometry::update(const Velocity& measured, RealtimeNanos time) {
   if (last_time_ && time > *last_time_ && time - *last_time_ <= max_step_) {
     // Zero-order hold: the previous record's velocity applies until this record arrived.
     const double dt = std::chrono::duration<double>(time - *last_time_).count();

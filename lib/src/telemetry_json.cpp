@@ -38,8 +38,8 @@ void append_fixed(std::string& out, double value, int decimals) {
   out.append(begin, static_cast<std::size_t>(result.ptr - begin));
 }
 
-void append_time(std::string& out, Nanos time) {
-  const std::int64_t count = time.count();
+void append_time(std::string& out, RealtimeNanos time) {
+  const std::int64_t count = time.time_since_epoch().count();
   if (count < 0) out += '-';
   const std::uint64_t ns = count < 0 ? 0 - static_cast<std::uint64_t>(count) : static_cast<std::uint64_t>(count);
   const std::uint64_t seconds = ns / 1'000'000'000;

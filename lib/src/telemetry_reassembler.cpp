@@ -54,11 +54,11 @@ std::optional<RejectReason> reject_reason(RecordFault fault) {
 
 }  // namespace
 
-TelemetryReassembler::TelemetryReassembler(Nanos max_gap) : max_gap_(max_gap) {}
+TelemetryReassembler::TelemetryReassembler(std::chrono::nanoseconds max_gap) : max_gap_(max_gap) {}
 
 void TelemetryReassembler::reset() { stage_ = Stage::idle; }
 
-std::optional<AssembledRecord> TelemetryReassembler::feed(const CanFrame& frame, Nanos time) {
+std::optional<AssembledRecord> TelemetryReassembler::feed(const CanFrame& frame, RealtimeNanos time) {
   const std::uint32_t slot = slot_of(frame.id);
   if (frame.error || slot > 2) return std::nullopt;
   ++counters_.frames;
@@ -87,7 +87,7 @@ std::optional<AssembledRecord> TelemetryReassembler::feed(const CanFrame& frame,
 }
 
 // Faulty frames and frames that do not continue the group, with the accounting of why.
-std::optional<AssembledRecord> TelemetryReassembler::feed_out_of_course(const CanFrame& frame, Nanos time) {
+std::optional<AssembledRecord> TelemetryReassembler::feed_out_of_course(const CanFrame& frame, RealtimeNanos time) {
   const auto discard = [this](DiscardReason reason) {
     ++counters_.discarded[static_cast<std::size_t>(reason)];
     stage_ = Stage::resync;

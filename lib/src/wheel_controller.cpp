@@ -9,7 +9,7 @@ namespace wheeltec {
 
 namespace {
 
-double seconds(Nanos duration) { return std::chrono::duration<double>(duration).count(); }
+double seconds(std::chrono::nanoseconds duration) { return std::chrono::duration<double>(duration).count(); }
 
 }  // namespace
 

@@ -26,7 +26,7 @@ struct ImuModel {
     std::normal_distribution<double> noise(0.0, noise_lsb);
     return std::round(value * lsb_per_unit + noise(random)) / lsb_per_unit;
   }
-  AttitudeFilter::Input record(Nanos time, bool stopped, double yaw_rate, Vector3 gravity = {0, 0, kG}) {
+  AttitudeFilter::Input record(RealtimeNanos time, bool stopped, double yaw_rate, Vector3 gravity = {0, 0, kG}) {
     AttitudeFilter::Input in;
     in.time = time;
     in.stopped = stopped;
@@ -53,7 +53,7 @@ TEST(AttitudeFilter, StartsLevelWithYawZero) {
 TEST(AttitudeFilter, YawDriftAtRestOver60s) {
   ImuModel imu;
   AttitudeFilter filter;
-  Nanos t{1'700'000'000s};
+  RealtimeNanos t{1'700'000'000s};
   for (int i = 0; i < 60 * 20; ++i) {
     t += 50ms;
     filter.update(imu.record(t, false, 0.0));
@@ -73,7 +73,7 @@ TEST(AttitudeFilter, YawDriftAtRestOver60s) {
 TEST(AttitudeFilter, YawHeldWhileFlagStopZeroesGyroZ) {
   ImuModel imu;
   AttitudeFilter filter;
-  Nanos t{1'700'000'000s};
+  RealtimeNanos t{1'700'000'000s};
   for (int i = 0; i < 200; ++i) filter.update(imu.record(t += 50ms, false, 0.0));  // learns the z bias
   const double yaw = filter.orientation().yaw;
   for (int i = 0; i < 600; ++i) filter.update(imu.record(t += 50ms, true, 0.0));
@@ -83,7 +83,7 @@ TEST(AttitudeFilter, YawHeldWhileFlagStopZeroesGyroZ) {
 TEST(AttitudeFilter, TurningFollowsTheYawRateWithTheRecordsOwnTimes) {
   ImuModel imu;
   AttitudeFilter filter;
-  Nanos t{1'700'000'000s};
+  RealtimeNanos t{1'700'000'000s};
   for (int i = 0; i < 100; ++i) filter.update(imu.record(t += 50ms, false, 0.0));
   // Irregular record spacing: 40 to 60 ms, a quarter turn at 0.5 rad/s.
   std::uniform_int_distribution<int> spacing(40, 60);
@@ -104,7 +104,7 @@ TEST(AttitudeFilter, RollAndPitchFromGravity) {
   // The reaction to gravity in a body rolled, then pitched: R^T (0, 0, g) with R = Ry(pitch) Rx(roll).
   const Vector3 gravity{-kG * std::sin(pitch), kG * std::cos(pitch) * std::sin(roll),
                         kG * std::cos(pitch) * std::cos(roll)};
-  Nanos t{1'700'000'000s};
+  RealtimeNanos t{1'700'000'000s};
   for (int i = 0; i < 40; ++i) filter.update(imu.record(t += 50ms, false, 0.0, gravity));
   EXPECT_NEAR(filter.orientation().roll, roll, 0.01);
   EXPECT_NEAR(filter.orientation().pitch, pitch, 0.01);
@@ -114,7 +114,7 @@ TEST(AttitudeFilter, RollAndPitchFromGravity) {
 TEST(AttitudeFilter, AccelerometerPullsAWrongTiltBack) {
   ImuModel imu;
   AttitudeFilter filter;
-  Nanos t{1'700'000'000s};
+  RealtimeNanos t{1'700'000'000s};
   const double roll = 0.2;
   filter.update(imu.record(t, false, 0.0));  // starts level
   const Vector3 gravity{0.0, kG * std::sin(roll), kG * std::cos(roll)};
@@ -126,7 +126,7 @@ TEST(AttitudeFilter, ResetYawKeepsRollAndPitch) {
   ImuModel imu;
   AttitudeFilter filter;
   const Vector3 gravity{0.0, kG * std::sin(0.1), kG * std::cos(0.1)};
-  Nanos t{1'700'000'000s};
+  RealtimeNanos t{1'700'000'000s};
   for (int i = 0; i < 40; ++i) filter.update(imu.record(t += 50ms, false, 1.0));
   for (int i = 0; i < 100; ++i) filter.update(imu.record(t += 50ms, false, 0.0, gravity));
   ASSERT_GT(std::abs(filter.orientation().yaw), 1.0);
@@ -139,7 +139,7 @@ TEST(AttitudeFilter, ResetYawKeepsRollAndPitch) {
 TEST(AttitudeFilter, ALongGapIsNotIntegrated) {
   ImuModel imu;
   AttitudeFilter filter;
-  Nanos t{1'700'000'000s};
+  RealtimeNanos t{1'700'000'000s};
   filter.update(imu.record(t, false, 1.0));
   filter.update(imu.record(t += 10s, false, 1.0));
   EXPECT_NEAR(filter.orientation().yaw, 0.0, 1e-9);

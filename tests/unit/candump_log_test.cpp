@@ -37,7 +37,7 @@ TEST(CandumpLogTest, ReadsStandardExtendedRtrAndEmptyFrames) {
       "(1700000001.000000) vcan0 7FF#\r\n"
       "(1700000001.5) vcan0 181#00.C8.00.00 R\n");
   ASSERT_EQ(log.frames.size(), 6u);
-  EXPECT_EQ(log.frames[0].time, seconds(1700000000) + microseconds(123456));
+  EXPECT_EQ(log.frames[0].time, RealtimeNanos(seconds(1700000000) + microseconds(123456)));
   EXPECT_EQ(log.frames[0].frame.id, 0x101u);
   EXPECT_FALSE(log.frames[0].frame.extended);
   EXPECT_EQ(log.frames[0].frame.dlc, 8);
@@ -51,7 +51,7 @@ TEST(CandumpLogTest, ReadsStandardExtendedRtrAndEmptyFrames) {
   EXPECT_EQ(log.frames[3].frame.dlc, 3);
   EXPECT_EQ(log.frames[4].frame.dlc, 0);
   EXPECT_EQ(log.frames[4].frame.id, 0x7FFu);
-  EXPECT_EQ(log.frames[5].time, seconds(1700000001) + std::chrono::milliseconds(500));
+  EXPECT_EQ(log.frames[5].time, RealtimeNanos(seconds(1700000001) + std::chrono::milliseconds(500)));
   EXPECT_EQ(log.frames[5].frame.dlc, 4);
   EXPECT_EQ(log.frames[5].frame.data[1], 0xC8);
 }

@@ -16,7 +16,7 @@ CanFrame control(Dialect dialect, std::int16_t x, std::int16_t y, std::int16_t z
 }
 
 EmulatorSettings settings(ChassisType type = ChassisType::mecanum, Dialect dialect = Dialect::manual,
-                          Nanos boot_delay = seconds(10)) {
+                          std::chrono::nanoseconds boot_delay = seconds(10)) {
   EmulatorSettings s;
   s.type = type;
   s.dialect = dialect;
@@ -56,7 +56,7 @@ TEST(ChassisEmulatorTest, BootHoldsTheMotorsOffAndReportsFlagStop) {
 }
 
 TEST(ChassisEmulatorTest, ZeroBootDelayStartsReady) {
-  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::manual, Nanos{0}));
+  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::manual, std::chrono::nanoseconds{0}));
   EXPECT_FALSE(chassis.booting());
   EXPECT_EQ(chassis.telemetry().flag_stop, 0);
   EXPECT_FALSE(chassis.advance_to(seconds(1)).boot_finished);
@@ -74,7 +74,7 @@ TEST(ChassisEmulatorTest, ManualDialectIgnoresEverythingWhileBooting) {
 }
 
 TEST(ChassisEmulatorTest, ManualDialectIgnoresCommandsUntilEnabled) {
-  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::manual, Nanos{0}));
+  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::manual, std::chrono::nanoseconds{0}));
   EXPECT_EQ(chassis.handle_frame(control(Dialect::manual, 200, 0, 0)), FrameOutcome::ignored_not_enabled);
   chassis.advance_to(seconds(1));
   EXPECT_EQ(chassis.true_velocity().vx, 0.0);
@@ -88,7 +88,7 @@ TEST(ChassisEmulatorTest, ManualDialectIgnoresCommandsUntilEnabled) {
 }
 
 TEST(ChassisEmulatorTest, ManualDialectIgnoresOtherFrames) {
-  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::manual, Nanos{0}));
+  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::manual, std::chrono::nanoseconds{0}));
   chassis.handle_frame(encode_enable_frame(true));
   CanFrame frame = control(Dialect::manual, 200, 0, 0);
   frame.dlc = 6;
@@ -128,7 +128,7 @@ TEST(ChassisEmulatorTest, ManualDialectDrivesAndDisableStops) {
 }
 
 TEST(ChassisEmulatorTest, KeepsTheLastCommandForever) {
-  ChassisEmulator chassis(settings(ChassisType::diff, Dialect::manual, Nanos{0}));
+  ChassisEmulator chassis(settings(ChassisType::diff, Dialect::manual, std::chrono::nanoseconds{0}));
   chassis.handle_frame(encode_enable_frame(true));
   chassis.handle_frame(control(Dialect::manual, 300, 0, 0));
   chassis.advance_to(seconds(120));
@@ -153,7 +153,7 @@ TEST(ChassisEmulatorTest, Dialect0x181KeepsABootTimeCommandUntilBootEnds) {
 }
 
 TEST(ChassisEmulatorTest, Dialect0x181NeedsNoHandshake) {
-  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::id_0x181, Nanos{0}));
+  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::id_0x181, std::chrono::nanoseconds{0}));
   EXPECT_EQ(chassis.handle_frame(encode_enable_frame(true)), FrameOutcome::not_a_command);
   EXPECT_EQ(chassis.handle_frame(control(Dialect::manual, 200, 0, 0)), FrameOutcome::not_a_command);
   EXPECT_FALSE(chassis.under_can_control());
@@ -163,7 +163,7 @@ TEST(ChassisEmulatorTest, Dialect0x181NeedsNoHandshake) {
 }
 
 TEST(ChassisEmulatorTest, MecanumMovesSidewaysAndDiffDoesNot) {
-  ChassisEmulator mecanum(settings(ChassisType::mecanum, Dialect::manual, Nanos{0}));
+  ChassisEmulator mecanum(settings(ChassisType::mecanum, Dialect::manual, std::chrono::nanoseconds{0}));
   mecanum.handle_frame(encode_enable_frame(true));
   mecanum.handle_frame(control(Dialect::manual, 0, -150, 0));
   mecanum.advance_to(seconds(1));
@@ -171,7 +171,7 @@ TEST(ChassisEmulatorTest, MecanumMovesSidewaysAndDiffDoesNot) {
   EXPECT_NEAR(sideways.vx, 0.0, 0.003);
   EXPECT_NEAR(sideways.vy, -0.15, 0.004);
 
-  ChassisEmulator diff(settings(ChassisType::diff, Dialect::manual, Nanos{0}));
+  ChassisEmulator diff(settings(ChassisType::diff, Dialect::manual, std::chrono::nanoseconds{0}));
   diff.handle_frame(encode_enable_frame(true));
   diff.handle_frame(control(Dialect::manual, 0, -150, 0));
   EXPECT_EQ(diff.target(), Velocity{});
@@ -187,7 +187,7 @@ TEST(ChassisEmulatorTest, EveryChassisTypeReachesItsCommand) {
   for (const Case& c : {Case{ChassisType::diff, 200, 0, 500}, Case{ChassisType::tank, -300, 0, -800},
                         Case{ChassisType::ackermann, 300, 0, 400}, Case{ChassisType::mecanum, 200, 100, -600},
                         Case{ChassisType::omni, -100, 200, 1000}, Case{ChassisType::four_wd, 250, 0, 700}}) {
-    ChassisEmulator chassis(settings(c.type, Dialect::id_0x181, Nanos{0}));
+    ChassisEmulator chassis(settings(c.type, Dialect::id_0x181, std::chrono::nanoseconds{0}));
     chassis.handle_frame(control(Dialect::id_0x181, c.x, c.y, c.z));
     chassis.advance_to(milliseconds(1200));
     const Velocity reported = mean_reported_velocity(chassis, 40);
@@ -198,7 +198,7 @@ TEST(ChassisEmulatorTest, EveryChassisTypeReachesItsCommand) {
 }
 
 TEST(ChassisEmulatorTest, ImuReportsGravityYawRateAndAcceleration) {
-  ChassisEmulator chassis(settings(ChassisType::diff, Dialect::manual, Nanos{0}));
+  ChassisEmulator chassis(settings(ChassisType::diff, Dialect::manual, std::chrono::nanoseconds{0}));
   chassis.handle_frame(encode_enable_frame(true));
   RawTelemetry raw = chassis.telemetry();
   EXPECT_NEAR(raw.accel_z, 16384, 50);
@@ -226,7 +226,7 @@ TEST(ChassisEmulatorTest, GyroZIsZeroWhileBootingEvenWhenTurning) {
 }
 
 TEST(ChassisEmulatorTest, BatteryReportsMillivoltsAndDrainsSlowlyUnderLoad) {
-  EmulatorSettings s = settings(ChassisType::mecanum, Dialect::manual, Nanos{0});
+  EmulatorSettings s = settings(ChassisType::mecanum, Dialect::manual, std::chrono::nanoseconds{0});
   s.battery_v = 22.2;
   ChassisEmulator idle(s);
   EXPECT_NEAR(idle.telemetry().battery_mv, 22200, 15);
@@ -243,7 +243,7 @@ TEST(ChassisEmulatorTest, BatteryReportsMillivoltsAndDrainsSlowlyUnderLoad) {
 }
 
 TEST(ChassisEmulatorTest, VelocitySaturatesInsteadOfWrapping) {
-  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::id_0x181, Nanos{0}));
+  ChassisEmulator chassis(settings(ChassisType::mecanum, Dialect::id_0x181, std::chrono::nanoseconds{0}));
   chassis.handle_frame(control(Dialect::id_0x181, 32767, 0, 0));
   chassis.advance_to(seconds(3));
   const RawTelemetry raw = chassis.telemetry();
@@ -252,7 +252,7 @@ TEST(ChassisEmulatorTest, VelocitySaturatesInsteadOfWrapping) {
 }
 
 TEST(ChassisEmulatorTest, SameSeedSameTelemetry) {
-  EmulatorSettings s = settings(ChassisType::omni, Dialect::id_0x181, Nanos{0});
+  EmulatorSettings s = settings(ChassisType::omni, Dialect::id_0x181, std::chrono::nanoseconds{0});
   s.seed = 42;
   ChassisEmulator a(s);
   ChassisEmulator b(s);
@@ -276,7 +276,7 @@ namespace {
 TEST(ChassisEmulatorTest, AckermannSteeringAngleModeTurnsAtTheYawRateOfTheAngle) {
   // The daemon's steering_angle mode sends atan(wheelbase * wz / vx); the measured yaw
   // rate must then be the wz it was asked for.
-  EmulatorSettings s = settings(ChassisType::ackermann, Dialect::manual, Nanos{0});
+  EmulatorSettings s = settings(ChassisType::ackermann, Dialect::manual, std::chrono::nanoseconds{0});
   s.ackermann_z = AckermannZ::steering_angle;
   ChassisEmulator chassis(s);
   chassis.handle_frame(encode_enable_frame(true));
@@ -291,7 +291,7 @@ TEST(ChassisEmulatorTest, AckermannSteeringAngleModeTurnsAtTheYawRateOfTheAngle)
 }
 
 TEST(ChassisEmulatorTest, AckermannSteeringAngleIsClampedToTheSteeringLimit) {
-  EmulatorSettings s = settings(ChassisType::ackermann, Dialect::id_0x181, Nanos{0});
+  EmulatorSettings s = settings(ChassisType::ackermann, Dialect::id_0x181, std::chrono::nanoseconds{0});
   s.ackermann_z = AckermannZ::steering_angle;
   ChassisEmulator chassis(s);
   chassis.handle_frame(control(Dialect::id_0x181, 200, 0, 1500));  // 1.5 rad asked, limit atan(0.144 / 0.35)
@@ -302,7 +302,7 @@ TEST(ChassisEmulatorTest, AckermannSteeringAngleIsClampedToTheSteeringLimit) {
 }
 
 TEST(ChassisEmulatorTest, AckermannYawRateModeTakesZAsAYawRate) {
-  ChassisEmulator chassis(settings(ChassisType::ackermann, Dialect::id_0x181, Nanos{0}));
+  ChassisEmulator chassis(settings(ChassisType::ackermann, Dialect::id_0x181, std::chrono::nanoseconds{0}));
   chassis.handle_frame(control(Dialect::id_0x181, 200, 0, 500));
   chassis.advance_to(seconds(2));
   const Velocity reported = mean_reported_velocity(chassis, 40);
@@ -324,7 +324,7 @@ TEST(ChassisEmulatorTest, GyroBiasIsSampledDuringBootAndSubtractedAfterwards) {
     corrected_sum += std::abs(sum / 50);
 
     EmulatorSettings no_boot = s;
-    no_boot.boot_delay = Nanos{0};  // no time to sample the offset
+    no_boot.boot_delay = std::chrono::nanoseconds{0};  // no time to sample the offset
     ChassisEmulator cold(no_boot);
     cold.advance_to(seconds(1));
     sum = 0.0;
@@ -342,7 +342,7 @@ namespace wheeltec {
 namespace {
 
 TEST(ChassisEmulatorTest, GeometryOverridesTheDefaults) {
-  EmulatorSettings s = settings(ChassisType::diff, Dialect::id_0x181, Nanos{0});
+  EmulatorSettings s = settings(ChassisType::diff, Dialect::id_0x181, std::chrono::nanoseconds{0});
   ChassisEmulator standard(s);
   ChassisGeometry wide = default_geometry(ChassisType::diff);
   wide.track = 2 * wide.track;

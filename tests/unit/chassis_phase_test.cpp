@@ -7,16 +7,16 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr Nanos kPeriod = 50ms;  // 20 Hz telemetry
+constexpr std::chrono::nanoseconds kPeriod = 50ms;  // 20 Hz telemetry
 
 // Feeds records every 50 ms from `from` for `duration`; returns the phase after the last one.
 struct Feed {
   ChassisPhaseTracker tracker;
-  Nanos now{1'000'000'000'000ns};
+  RealtimeNanos now{1'000'000'000'000ns};
 
-  ChassisPhase run(Nanos duration, bool stopped, Velocity measured = {}) {
+  ChassisPhase run(std::chrono::nanoseconds duration, bool stopped, Velocity measured = {}) {
     ChassisPhase phase = ChassisPhase::ready;
-    for (Nanos t{}; t < duration; t += kPeriod) phase = step(stopped, measured);
+    for (std::chrono::nanoseconds t{}; t < duration; t += kPeriod) phase = step(stopped, measured);
     return phase;
   }
   ChassisPhase step(bool stopped, Velocity measured = {}) {

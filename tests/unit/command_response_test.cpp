@@ -9,11 +9,11 @@ using namespace std::chrono_literals;
 
 struct Feed {
   CommandResponseMonitor monitor;
-  Nanos now{5'000'000'000ns};
+  RealtimeNanos now{5'000'000'000ns};
 
-  CommandResponse run(Nanos duration, const Velocity& commanded, bool stopped = false, const Velocity& measured = {}) {
+  CommandResponse run(std::chrono::nanoseconds duration, const Velocity& commanded, bool stopped = false, const Velocity& measured = {}) {
     CommandResponse state = monitor.state();
-    for (Nanos t{}; t < duration; t += 50ms) {
+    for (std::chrono::nanoseconds t{}; t < duration; t += 50ms) {
       now += 50ms;
       state = monitor.update(commanded, stopped, measured, now);
     }

@@ -7,7 +7,10 @@ namespace {
 
 using std::chrono::milliseconds;
 
-constexpr Nanos kTimeout = milliseconds(500);
+constexpr std::chrono::nanoseconds kTimeout = milliseconds(500);
+
+// A steady-clock time, in milliseconds.
+constexpr MonotonicNanos at(long long ms) { return MonotonicNanos{milliseconds(ms)}; }
 constexpr ClientId kAlice = 1;
 constexpr ClientId kBob = 2;
 const Velocity kForward{0.2, 0.0, 0.5};
@@ -24,41 +27,41 @@ TEST(ControlArbiter, StartsWithoutOwner) {
 
 TEST(ControlArbiter, FirstDriveTakesControl) {
   ControlArbiter arbiter(kTimeout);
-  EXPECT_TRUE(arbiter.try_drive(kAlice, kForward, milliseconds(1000)));
+  EXPECT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
   EXPECT_EQ(arbiter.owner(), kAlice);
   EXPECT_EQ(arbiter.target(), kForward);
-  EXPECT_EQ(arbiter.deadline(), milliseconds(1500));
+  EXPECT_EQ(arbiter.deadline(), at(1500));
 }
 
 TEST(ControlArbiter, OwnerRedrivingChangesTargetAndExtendsDeadline) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, milliseconds(1000)));
-  EXPECT_TRUE(arbiter.try_drive(kAlice, kBackward, milliseconds(1400)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  EXPECT_TRUE(arbiter.try_drive(kAlice, kBackward, at(1400)));
   EXPECT_EQ(arbiter.owner(), kAlice);
   EXPECT_EQ(arbiter.target(), kBackward);
-  EXPECT_EQ(arbiter.deadline(), milliseconds(1900));
+  EXPECT_EQ(arbiter.deadline(), at(1900));
   // The first deadline has passed, the extended one has not.
-  EXPECT_FALSE(arbiter.expire(milliseconds(1600)));
+  EXPECT_FALSE(arbiter.expire(at(1600)));
   EXPECT_EQ(arbiter.owner(), kAlice);
 }
 
 TEST(ControlArbiter, OtherClientIsRefusedAndNothingChanges) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, milliseconds(1000)));
-  EXPECT_FALSE(arbiter.try_drive(kBob, kBackward, milliseconds(1200)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  EXPECT_FALSE(arbiter.try_drive(kBob, kBackward, at(1200)));
   EXPECT_EQ(arbiter.owner(), kAlice);
   EXPECT_EQ(arbiter.target(), kForward);
-  EXPECT_EQ(arbiter.deadline(), milliseconds(1500));
+  EXPECT_EQ(arbiter.deadline(), at(1500));
 }
 
 TEST(ControlArbiter, StopZeroesAndReleases) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, milliseconds(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
   arbiter.stop();
   EXPECT_EQ(arbiter.owner(), std::nullopt);
   EXPECT_EQ(arbiter.target(), kZero);
   EXPECT_EQ(arbiter.deadline(), std::nullopt);
-  EXPECT_TRUE(arbiter.try_drive(kBob, kBackward, milliseconds(1100)));
+  EXPECT_TRUE(arbiter.try_drive(kBob, kBackward, at(1100)));
   EXPECT_EQ(arbiter.owner(), kBob);
 }
 
@@ -71,12 +74,12 @@ TEST(ControlArbiter, StopWithoutOwnerIsHarmless) {
 
 TEST(ControlArbiter, ReleaseByOwnerStopsAndLetsOthersDrive) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, milliseconds(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
   EXPECT_TRUE(arbiter.release(kAlice));
   EXPECT_EQ(arbiter.owner(), std::nullopt);
   EXPECT_EQ(arbiter.target(), kZero);
   EXPECT_EQ(arbiter.deadline(), std::nullopt);
-  EXPECT_TRUE(arbiter.try_drive(kBob, kBackward, milliseconds(1100)));
+  EXPECT_TRUE(arbiter.try_drive(kBob, kBackward, at(1100)));
   EXPECT_EQ(arbiter.owner(), kBob);
   EXPECT_EQ(arbiter.target(), kBackward);
 }
@@ -84,46 +87,46 @@ TEST(ControlArbiter, ReleaseByOwnerStopsAndLetsOthersDrive) {
 TEST(ControlArbiter, ReleaseByNonOwnerChangesNothing) {
   ControlArbiter arbiter(kTimeout);
   EXPECT_FALSE(arbiter.release(kAlice));
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, milliseconds(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
   EXPECT_FALSE(arbiter.release(kBob));
   EXPECT_EQ(arbiter.owner(), kAlice);
   EXPECT_EQ(arbiter.target(), kForward);
-  EXPECT_EQ(arbiter.deadline(), milliseconds(1500));
+  EXPECT_EQ(arbiter.deadline(), at(1500));
 }
 
 TEST(ControlArbiter, ExpiresExactlyAtDeadline) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, milliseconds(1000)));
-  EXPECT_FALSE(arbiter.expire(milliseconds(1500) - Nanos(1)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  EXPECT_FALSE(arbiter.expire(at(1500) - std::chrono::nanoseconds(1)));
   EXPECT_EQ(arbiter.owner(), kAlice);
   EXPECT_EQ(arbiter.target(), kForward);
-  EXPECT_TRUE(arbiter.expire(milliseconds(1500)));
+  EXPECT_TRUE(arbiter.expire(at(1500)));
   EXPECT_EQ(arbiter.owner(), std::nullopt);
   EXPECT_EQ(arbiter.target(), kZero);
   EXPECT_EQ(arbiter.deadline(), std::nullopt);
-  EXPECT_FALSE(arbiter.expire(milliseconds(1600)));
+  EXPECT_FALSE(arbiter.expire(at(1600)));
 }
 
 TEST(ControlArbiter, ExpireWithoutOwnerIsFalse) {
   ControlArbiter arbiter(kTimeout);
-  EXPECT_FALSE(arbiter.expire(milliseconds(100000)));
+  EXPECT_FALSE(arbiter.expire(at(100000)));
 }
 
 TEST(ControlArbiter, OtherClientDrivesAfterExpiry) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, milliseconds(1000)));
-  ASSERT_TRUE(arbiter.expire(milliseconds(2000)));
-  EXPECT_TRUE(arbiter.try_drive(kBob, kBackward, milliseconds(2000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  ASSERT_TRUE(arbiter.expire(at(2000)));
+  EXPECT_TRUE(arbiter.try_drive(kBob, kBackward, at(2000)));
   EXPECT_EQ(arbiter.owner(), kBob);
-  EXPECT_EQ(arbiter.deadline(), milliseconds(2500));
+  EXPECT_EQ(arbiter.deadline(), at(2500));
 }
 
 TEST(ControlArbiter, NewTimeoutAppliesToNextDrive) {
   ControlArbiter arbiter(kTimeout);
   arbiter.set_command_timeout(milliseconds(200));
   EXPECT_EQ(arbiter.command_timeout(), milliseconds(200));
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, milliseconds(1000)));
-  EXPECT_EQ(arbiter.deadline(), milliseconds(1200));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  EXPECT_EQ(arbiter.deadline(), at(1200));
 }
 
 }  // namespace

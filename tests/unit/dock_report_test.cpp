@@ -65,19 +65,19 @@ TEST(DockReport, OnlyStandardDataFramesWithDlc8OnTheDockId) {
 TEST(DockPresence, PresentFromTheFirstReportUntilTheTimeout) {
   DockPresence dock(3s);
   EXPECT_FALSE(dock.report());
-  EXPECT_FALSE(dock.expire(Nanos{10s}));
+  EXPECT_FALSE(dock.expire(MonotonicNanos{10s}));
   ChargingDockState state;
   state.charging = true;
-  dock.heard(state, Nanos{10s});
+  dock.heard(state, MonotonicNanos{10s});
   ASSERT_TRUE(dock.report());
   EXPECT_TRUE(dock.report()->charging);
-  EXPECT_EQ(dock.deadline(), Nanos{13s});
-  dock.heard(state, Nanos{12s});
-  EXPECT_FALSE(dock.expire(Nanos{14s}));
+  EXPECT_EQ(dock.deadline(), MonotonicNanos{13s});
+  dock.heard(state, MonotonicNanos{12s});
+  EXPECT_FALSE(dock.expire(MonotonicNanos{14s}));
   EXPECT_TRUE(dock.report());
-  EXPECT_TRUE(dock.expire(Nanos{15s}));
+  EXPECT_TRUE(dock.expire(MonotonicNanos{15s}));
   EXPECT_FALSE(dock.report());
-  EXPECT_FALSE(dock.expire(Nanos{16s})) << "gone once, reported once";
+  EXPECT_FALSE(dock.expire(MonotonicNanos{16s})) << "gone once, reported once";
 }
 
 }  // namespace

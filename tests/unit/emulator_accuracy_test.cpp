@@ -28,7 +28,7 @@ EmulatorSettings model_settings(const RobotModel& model, std::uint32_t seed) {
   settings.geometry = model.geometry;
   settings.wheel = wheel_parameters(model);
   settings.dialect = Dialect::id_0x181;
-  settings.boot_delay = Nanos{0};
+  settings.boot_delay = std::chrono::nanoseconds{0};
   settings.self_test = SelfTest::skip;
   settings.seed = seed;
   return settings;
@@ -59,7 +59,7 @@ double run_command(const RobotModel& model, const Velocity& command, std::uint32
   chassis.handle_frame(encode_control_frame(Dialect::id_0x181, quantize_command(command, VelocityLimits{})));
   Velocity sum;
   int records = 0;
-  for (Nanos now = milliseconds(50); now <= milliseconds(2500); now += milliseconds(50)) {
+  for (std::chrono::nanoseconds now = milliseconds(50); now <= milliseconds(2500); now += milliseconds(50)) {
     chassis.advance_to(now);
     const TelemetryRecord record = to_physical(chassis.telemetry());
     if (now <= seconds(2)) continue;

@@ -11,11 +11,11 @@ namespace {
 using std::chrono::milliseconds;
 using std::numbers::pi;
 
-constexpr Nanos kPeriod = milliseconds(50);  // 20 Hz records
+constexpr std::chrono::nanoseconds kPeriod = milliseconds(50);  // 20 Hz records
 
 // Feeds `steps` + 1 records of constant velocity, kPeriod apart, starting at `start`;
 // returns the time of the last one.
-Nanos drive(Odometry& odom, const Velocity& v, int steps, Nanos start = Nanos(0)) {
+RealtimeNanos drive(Odometry& odom, const Velocity& v, int steps, RealtimeNanos start = RealtimeNanos{}) {
   for (int i = 0; i <= steps; ++i) odom.update(v, start + i * kPeriod);
   return start + steps * kPeriod;
 }
@@ -29,7 +29,7 @@ TEST(Odometry, StartsAtOrigin) {
 
 TEST(Odometry, FirstUpdateOnlyRecordsTime) {
   Odometry odom;
-  odom.update({1.0, 1.0, 1.0}, milliseconds(100));
+  odom.update({1.0, 1.0, 1.0}, RealtimeNanos(milliseconds(100)));
   EXPECT_EQ(odom.pose().x, 0.0);
   EXPECT_EQ(odom.pose().y, 0.0);
   EXPECT_EQ(odom.pose().yaw, 0.0);
@@ -52,27 +52,27 @@ TEST(Odometry, SidewaysAndBackwardsInBodyFrame) {
 
 TEST(Odometry, BodyVelocityIsRotatedIntoWorldFrame) {
   Odometry odom(milliseconds(2000));
-  odom.update({0.0, 0.0, pi / 2}, Nanos(0));
-  odom.update({1.0, 0.5, 0.0}, milliseconds(1000));  // now facing +y
+  odom.update({0.0, 0.0, pi / 2}, RealtimeNanos{});
+  odom.update({1.0, 0.5, 0.0}, RealtimeNanos(milliseconds(1000)));  // now facing +y
   EXPECT_NEAR(odom.pose().yaw, pi / 2, 1e-12);
-  odom.update({0.0, 0.0, 0.0}, milliseconds(2000));
+  odom.update({0.0, 0.0, 0.0}, RealtimeNanos(milliseconds(2000)));
   EXPECT_NEAR(odom.pose().x, -0.5, 1e-9);
   EXPECT_NEAR(odom.pose().y, 1.0, 1e-9);
 }
 
 TEST(Odometry, UsesPreviousRecordsVelocityOverTheStep) {
   Odometry odom;
-  odom.update({1.0, 0.0, 0.0}, Nanos(0));
-  odom.update({0.0, 0.0, 0.0}, milliseconds(100));
+  odom.update({1.0, 0.0, 0.0}, RealtimeNanos{});
+  odom.update({0.0, 0.0, 0.0}, RealtimeNanos(milliseconds(100)));
   EXPECT_NEAR(odom.pose().x, 0.1, 1e-12);  // an average would give 0.05
-  odom.update({3.0, 0.0, 0.0}, milliseconds(200));
+  odom.update({3.0, 0.0, 0.0}, RealtimeNanos(milliseconds(200)));
   EXPECT_NEAR(odom.pose().x, 0.1, 1e-12);  // the step before was at rest
 }
 
 TEST(Odometry, MidpointHeadingOnAnArc) {
   Odometry odom(milliseconds(2000));
-  odom.update({1.0, 0.0, 1.0}, Nanos(0));
-  odom.update({0.0, 0.0, 0.0}, milliseconds(1000));
+  odom.update({1.0, 0.0, 1.0}, RealtimeNanos{});
+  odom.update({0.0, 0.0, 0.0}, RealtimeNanos(milliseconds(1000)));
   // Travel along the chord direction: heading halfway through the turn.
   EXPECT_NEAR(odom.pose().x, std::cos(0.5), 1e-12);
   EXPECT_NEAR(odom.pose().y, std::sin(0.5), 1e-12);
@@ -86,7 +86,7 @@ TEST(Odometry, FullCircleReturnsToOrigin) {
   drive(odom, {0.5, 0.0, wz}, steps / 2);
   EXPECT_NEAR(odom.pose().y, 2.0 * 0.5 / wz, 1e-2);  // half way: across the diameter
   EXPECT_NEAR(std::abs(odom.pose().yaw), pi, 1e-9);
-  drive(odom, {0.5, 0.0, wz}, steps / 2, steps / 2 * kPeriod);
+  drive(odom, {0.5, 0.0, wz}, steps / 2, RealtimeNanos(steps / 2 * kPeriod));
   EXPECT_NEAR(odom.pose().x, 0.0, 1e-3);
   EXPECT_NEAR(odom.pose().y, 0.0, 1e-3);
   EXPECT_NEAR(odom.pose().yaw, 0.0, 1e-9);
@@ -103,47 +103,47 @@ TEST(Odometry, YawWrapsAtPi) {
 
 TEST(Odometry, YawRangeExcludesMinusPi) {
   Odometry ccw(milliseconds(1000));
-  ccw.update({0.0, 0.0, pi}, Nanos(0));
-  ccw.update({}, milliseconds(1000));
+  ccw.update({0.0, 0.0, pi}, RealtimeNanos{});
+  ccw.update({}, RealtimeNanos(milliseconds(1000)));
   EXPECT_EQ(ccw.pose().yaw, pi);
 
   Odometry cw(milliseconds(1000));
-  cw.update({0.0, 0.0, -pi}, Nanos(0));
-  cw.update({}, milliseconds(1000));
+  cw.update({0.0, 0.0, -pi}, RealtimeNanos{});
+  cw.update({}, RealtimeNanos(milliseconds(1000)));
   EXPECT_EQ(cw.pose().yaw, pi);
 }
 
 TEST(Odometry, StepLongerThanMaxStepIsNotIntegrated) {
   Odometry odom;  // max step 500 ms
-  odom.update({1.0, 0.0, 0.0}, Nanos(0));
-  odom.update({2.0, 0.0, 0.0}, milliseconds(501));
+  odom.update({1.0, 0.0, 0.0}, RealtimeNanos{});
+  odom.update({2.0, 0.0, 0.0}, RealtimeNanos(milliseconds(501)));
   EXPECT_EQ(odom.pose().x, 0.0);
   // Integration restarts from the record after the gap, with its velocity.
-  odom.update({0.0, 0.0, 0.0}, milliseconds(601));
+  odom.update({0.0, 0.0, 0.0}, RealtimeNanos(milliseconds(601)));
   EXPECT_NEAR(odom.pose().x, 0.2, 1e-12);
 }
 
 TEST(Odometry, StepOfExactlyMaxStepIsIntegrated) {
   Odometry odom;
-  odom.update({1.0, 0.0, 0.0}, Nanos(0));
-  odom.update({0.0, 0.0, 0.0}, milliseconds(500));
+  odom.update({1.0, 0.0, 0.0}, RealtimeNanos{});
+  odom.update({0.0, 0.0, 0.0}, RealtimeNanos(milliseconds(500)));
   EXPECT_NEAR(odom.pose().x, 0.5, 1e-12);
 }
 
 TEST(Odometry, NonPositiveStepIsNotIntegrated) {
   Odometry odom;
-  odom.update({1.0, 0.0, 0.0}, milliseconds(1000));
-  odom.update({2.0, 0.0, 0.0}, milliseconds(1000));
+  odom.update({1.0, 0.0, 0.0}, RealtimeNanos(milliseconds(1000)));
+  odom.update({2.0, 0.0, 0.0}, RealtimeNanos(milliseconds(1000)));
   EXPECT_EQ(odom.pose().x, 0.0);
-  odom.update({3.0, 0.0, 0.0}, milliseconds(900));
+  odom.update({3.0, 0.0, 0.0}, RealtimeNanos(milliseconds(900)));
   EXPECT_EQ(odom.pose().x, 0.0);
-  odom.update({0.0, 0.0, 0.0}, milliseconds(1000));
+  odom.update({0.0, 0.0, 0.0}, RealtimeNanos(milliseconds(1000)));
   EXPECT_NEAR(odom.pose().x, 0.3, 1e-12);  // restarted at 900 ms with 3 m/s
 }
 
 TEST(Odometry, ResetReturnsToOriginAndForgetsLastRecord) {
   Odometry odom;
-  const Nanos end = drive(odom, {0.5, 0.1, 0.3}, 20);
+  const RealtimeNanos end = drive(odom, {0.5, 0.1, 0.3}, 20);
   ASSERT_GT(odom.pose().x, 0.1);
   odom.reset();
   EXPECT_EQ(odom.pose().x, 0.0);

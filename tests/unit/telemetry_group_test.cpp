@@ -33,7 +33,7 @@ TEST(TelemetryGroupTest, SplitsTheRecordIntoThreeStandardFrames) {
   TelemetryReassembler reassembler;
   std::optional<AssembledRecord> assembled;
   for (std::size_t i = 0; i < group.count; ++i) {
-    assembled = reassembler.feed(group.frames[i], std::chrono::microseconds(100 * i));
+    assembled = reassembler.feed(group.frames[i], RealtimeNanos(std::chrono::microseconds(100 * i)));
   }
   ASSERT_TRUE(assembled);
   EXPECT_EQ(assembled->bytes, record);

@@ -20,7 +20,7 @@ using namespace std::chrono_literals;
 TelemetrySample worked_example() {
   TelemetrySample s;
   s.seq = 42;
-  s.time = std::chrono::seconds(1763800000) + 123456789ns;
+  s.time = RealtimeNanos(std::chrono::seconds(1763800000) + 123456789ns);
   s.record.stopped = false;
   s.record.velocity = {0.257, 0.001, 0.0};
   s.record.accel = {-362 / 1672.0, -562 / 1672.0, 16512 / 1672.0};
@@ -124,11 +124,11 @@ TEST(TelemetryJson, NegativeValuesKeepTheirSign) {
 
 TEST(TelemetryJson, TimeHasMicrosecondsTruncatedFromNanoseconds) {
   TelemetrySample s;
-  s.time = 999999999ns;
+  s.time = RealtimeNanos(999999999ns);
   EXPECT_NE(to_json(s).find("\"time\":0.999999,"), std::string::npos);
-  s.time = std::chrono::seconds(1700000000) + 1ms;
+  s.time = RealtimeNanos(std::chrono::seconds(1700000000) + 1ms);
   EXPECT_NE(to_json(s).find("\"time\":1700000000.001000,"), std::string::npos);
-  s.time = std::chrono::seconds(1700000000) + 999ns;
+  s.time = RealtimeNanos(std::chrono::seconds(1700000000) + 999ns);
   EXPECT_NE(to_json(s).find("\"time\":1700000000.000000,"), std::string::npos);
 }
 

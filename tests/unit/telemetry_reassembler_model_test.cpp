@@ -17,9 +17,9 @@ using std::chrono::microseconds;
 
 class ModelReassembler {
  public:
-  explicit ModelReassembler(Nanos max_gap) : max_gap_(max_gap) {}
+  explicit ModelReassembler(std::chrono::nanoseconds max_gap) : max_gap_(max_gap) {}
 
-  std::optional<AssembledRecord> feed(const CanFrame& frame, Nanos time) {
+  std::optional<AssembledRecord> feed(const CanFrame& frame, RealtimeNanos time) {
     const bool telemetry = frame.id == kTelemetryId1 || frame.id == kTelemetryId2 || frame.id == kTelemetryId3;
     if (frame.error || !telemetry) return std::nullopt;
     ++counters.frames;
@@ -86,14 +86,14 @@ class ModelReassembler {
     ++counters.discarded[static_cast<std::size_t>(reason)];
     stage_ = Stage::resync;
   }
-  void store(const CanFrame& frame, std::size_t slot, Nanos time, Stage next) {
+  void store(const CanFrame& frame, std::size_t slot, RealtimeNanos time, Stage next) {
     std::copy_n(frame.data.begin(), 8, bytes_.begin() + 8 * slot);
     last_time_ = time;
     stage_ = next;
   }
-  Nanos max_gap_;
+  std::chrono::nanoseconds max_gap_;
   Stage stage_ = Stage::idle;
-  Nanos last_time_{};
+  RealtimeNanos last_time_{};
   RecordBytes bytes_{};
 };
 
@@ -102,7 +102,7 @@ TEST(TelemetryReassemblerModel, AgreesWithTheRulesOnRandomTraffic) {
   const auto chance = [&](int percent) { return std::uniform_int_distribution<int>(0, 99)(random) < percent; };
   TelemetryReassembler reassembler(microseconds(20'000));
   ModelReassembler model(microseconds(20'000));
-  Nanos time{1'763'800'000'000'000'000};
+  RealtimeNanos time{std::chrono::nanoseconds{1'763'800'000'000'000'000}};
   std::uint64_t records = 0;
 
   for (int group = 0; group < 20'000; ++group) {

@@ -57,13 +57,13 @@ void expect_counters(const ReassemblyCounters& actual, const Expected& expected)
 class TelemetryReassemblerTest : public ::testing::Test {
  protected:
   // Feeds a frame `step` after the previous one.
-  std::optional<AssembledRecord> feed(const CanFrame& frame, Nanos step = milliseconds(1)) {
+  std::optional<AssembledRecord> feed(const CanFrame& frame, std::chrono::nanoseconds step = milliseconds(1)) {
     now_ += step;
     return reassembler_.feed(frame, now_);
   }
 
   std::optional<AssembledRecord> feed_part(const RecordBytes& record, int index,
-                                           Nanos step = milliseconds(1)) {
+                                           std::chrono::nanoseconds step = milliseconds(1)) {
     return feed(part(record, index), step);
   }
 
@@ -79,7 +79,7 @@ class TelemetryReassemblerTest : public ::testing::Test {
   }
 
   TelemetryReassembler reassembler_;
-  Nanos now_{milliseconds(1'000'000)};
+  RealtimeNanos now_{milliseconds(1'000'000)};
   const RecordBytes record_ = sample_record(257);
 };
 
@@ -277,7 +277,7 @@ TEST_F(TelemetryReassemblerTest, FaultyFramesDuringResync) {
 
 TEST_F(TelemetryReassemblerTest, GapBeforeSecondFrame) {
   EXPECT_FALSE(feed_part(record_, 0).has_value());
-  EXPECT_FALSE(feed_part(record_, 1, milliseconds(20) + Nanos(1)).has_value());
+  EXPECT_FALSE(feed_part(record_, 1, milliseconds(20) + std::chrono::nanoseconds(1)).has_value());
   EXPECT_FALSE(feed_part(record_, 2).has_value());
   expect_counters(reassembler_.counters(), {.frames = 3, .resync_skipped = 1, .discarded = {{D::gap, 1}}});
   expect_clean_group_accepted();
@@ -310,9 +310,9 @@ TEST_F(TelemetryReassemblerTest, TimeGoingBackwardsIsNoGap) {
 
 TEST_F(TelemetryReassemblerTest, ConfiguredMaxGap) {
   TelemetryReassembler strict(milliseconds(5));
-  EXPECT_FALSE(strict.feed(part(record_, 0), milliseconds(100)).has_value());
-  EXPECT_FALSE(strict.feed(part(record_, 1), milliseconds(105)).has_value());
-  EXPECT_FALSE(strict.feed(part(record_, 2), milliseconds(111)).has_value());
+  EXPECT_FALSE(strict.feed(part(record_, 0), RealtimeNanos(milliseconds(100))).has_value());
+  EXPECT_FALSE(strict.feed(part(record_, 1), RealtimeNanos(milliseconds(105))).has_value());
+  EXPECT_FALSE(strict.feed(part(record_, 2), RealtimeNanos(milliseconds(111))).has_value());
   expect_counters(strict.counters(), {.frames = 3, .discarded = {{D::gap, 1}}});
 }
 

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -27,10 +28,10 @@ class AttitudeFilter {
   static constexpr double kAccelTrustBand = 0.1;        // |a| within 10 % of g
   static constexpr double kRestGyroRate = 0.02;         // rad/s from the bias: steady
   static constexpr double kBiasTimeConstant = 5.0;      // s, of the bias estimate once settled
-  static constexpr Nanos kMaxStep = std::chrono::milliseconds(500);
+  static constexpr std::chrono::nanoseconds kMaxStep = std::chrono::milliseconds(500);
 
   struct Input {
-    Nanos time{};
+    RealtimeNanos time{};
     bool stopped = false;
     Velocity measured;
     Vector3 accel;  // m/s^2
@@ -53,7 +54,7 @@ class AttitudeFilter {
   Orientation orientation_;
   Vector3 bias_;
   double rest_samples_ = 0.0;  // rest records seen, for a fast start of the bias average
-  std::optional<Nanos> last_time_;
+  std::optional<RealtimeNanos> last_time_;
   bool initialized_ = false;
 };
 

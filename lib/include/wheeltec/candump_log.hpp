@@ -7,13 +7,14 @@
 #include <vector>
 
 #include "wheeltec/can_frame.hpp"
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
 
 // One line of a `candump -L` log: `(1700000000.123456) vcan0 101#7B00010100010000`.
 struct LoggedFrame {
-  Nanos time{0};  // the line's timestamp (seconds since the epoch, as candump wrote it)
+  RealtimeNanos time{};  // the line's timestamp (seconds since the epoch, as candump wrote it)
   CanFrame frame;
   friend bool operator==(const LoggedFrame&, const LoggedFrame&) = default;
 };

@@ -38,7 +38,7 @@ struct EmulatorSettings {
   // Ackermann: whether Z is a yaw rate (V3.5 and F407 firmware) or the front-wheel
   // angle in 0.001 rad (C50X firmware).
   AckermannZ ackermann_z = AckermannZ::yaw_rate;
-  Nanos boot_delay = std::chrono::seconds(10);
+  std::chrono::nanoseconds boot_delay = std::chrono::seconds(10);
   SelfTest self_test = SelfTest::drive;
   ChassisTilt tilt;
   double battery_v = 12.0;
@@ -85,7 +85,7 @@ class ChassisEmulator {
   explicit ChassisEmulator(const EmulatorSettings& settings);
 
   // Runs every control period that ends at or before `now`.
-  AdvanceEvents advance_to(Nanos now);
+  AdvanceEvents advance_to(std::chrono::nanoseconds now);
 
   // Takes effect in the next control period.
   FrameOutcome handle_frame(const CanFrame& frame);
@@ -94,7 +94,7 @@ class ChassisEmulator {
   // Its velocities are those of the encoder counts since the previous record.
   RawTelemetry telemetry();
 
-  Nanos time() const { return time_; }
+  std::chrono::nanoseconds time() const { return time_; }
   ControllerPhase phase() const { return controller_phase(time_, settings_.boot_delay, settings_.self_test); }
   bool booting() const { return phase() == ControllerPhase::booting; }
   // Manual dialect: enabled by the enable frame; 0x181: a command has been received.
@@ -133,7 +133,7 @@ class ChassisEmulator {
   WheelSpeeds zero_targets_;
   Vector3 gravity_;  // what the accelerometer reads at rest, m/s^2
   double full_battery_v_;
-  Nanos time_{0};
+  std::chrono::nanoseconds time_{0};
   bool under_can_control_ = false;
   ControlCommand command_;
   Velocity target_;

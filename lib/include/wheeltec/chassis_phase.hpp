@@ -4,6 +4,7 @@
 #include <optional>
 #include <string_view>
 
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -31,7 +32,7 @@ bool obeys_commands(ChassisPhase phase);
 
 // What the phase is told by each accepted record.
 struct PhaseInput {
-  Nanos time{};    // the record's receive time
+  RealtimeNanos time{};    // the record's receive time
   bool stopped = false;  // flag_stop
   Velocity measured;
 };
@@ -49,11 +50,11 @@ struct PhaseInput {
 //   2.3 s from the flag_stop clearing. No motion: the controller skips the self-test, `ready`.
 class ChassisPhaseTracker {
  public:
-  static constexpr Nanos kBootDelay = std::chrono::seconds(10);  // firmware CONTROL_DELAY
-  static constexpr Nanos kBootTolerance = std::chrono::milliseconds(1000);
-  static constexpr Nanos kRebootGap = std::chrono::milliseconds(150);
-  static constexpr Nanos kSelfTestWatch = std::chrono::milliseconds(400);
-  static constexpr Nanos kSelfTestLength = std::chrono::milliseconds(2300);  // 2 s drive, 0.3 s zero
+  static constexpr std::chrono::nanoseconds kBootDelay = std::chrono::seconds(10);  // firmware CONTROL_DELAY
+  static constexpr std::chrono::nanoseconds kBootTolerance = std::chrono::milliseconds(1000);
+  static constexpr std::chrono::nanoseconds kRebootGap = std::chrono::milliseconds(150);
+  static constexpr std::chrono::nanoseconds kSelfTestWatch = std::chrono::milliseconds(400);
+  static constexpr std::chrono::nanoseconds kSelfTestLength = std::chrono::milliseconds(2300);  // 2 s drive, 0.3 s zero
   static constexpr double kMotionSpeed = 0.03;      // m/s, measured, either axis
   static constexpr double kMotionYawRate = 0.1;     // rad/s, measured
 
@@ -69,8 +70,8 @@ class ChassisPhaseTracker {
   ChassisStage next_stage(const PhaseInput& record, bool after_silence) const;
 
   std::optional<ChassisStage> stage_;
-  std::optional<Nanos> last_time_;
-  Nanos flag_stop_changed_{};  // record time of the latest change of flag_stop (or of a silence)
+  std::optional<RealtimeNanos> last_time_;
+  RealtimeNanos flag_stop_changed_{};  // record time of the latest change of flag_stop (or of a silence)
 };
 
 // True when a measured velocity shows the chassis moving (above the encoders' noise).

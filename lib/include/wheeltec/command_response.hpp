@@ -3,6 +3,7 @@
 #include <chrono>
 #include <optional>
 
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -21,10 +22,10 @@ enum class CommandResponse {
 // towards kPatience (the controller holds the motors off then).
 class CommandResponseMonitor {
  public:
-  static constexpr Nanos kPatience = std::chrono::seconds(1);
+  static constexpr std::chrono::nanoseconds kPatience = std::chrono::seconds(1);
 
   // Returns the state after this record.
-  CommandResponse update(const Velocity& commanded, bool stopped, const Velocity& measured, Nanos time);
+  CommandResponse update(const Velocity& commanded, bool stopped, const Velocity& measured, RealtimeNanos time);
   void reset() { *this = CommandResponseMonitor{}; }
 
   CommandResponse state() const { return state_; }
@@ -32,7 +33,7 @@ class CommandResponseMonitor {
 
  private:
   CommandResponse state_ = CommandResponse::idle;
-  std::optional<Nanos> awaiting_since_;  // start of the current run of records with flag_stop clear
+  std::optional<RealtimeNanos> awaiting_since_;  // start of the current run of records with flag_stop clear
 };
 
 // A command that a moving chassis would show in its measured velocity.

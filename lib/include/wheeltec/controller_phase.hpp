@@ -19,13 +19,13 @@ enum class ControllerPhase {
   running,          // obeys its command
 };
 
-inline constexpr Nanos kSelfTestDriveTime = std::chrono::seconds(2);
-inline constexpr Nanos kSelfTestStopTime = std::chrono::milliseconds(300);
+inline constexpr std::chrono::nanoseconds kSelfTestDriveTime = std::chrono::seconds(2);
+inline constexpr std::chrono::nanoseconds kSelfTestStopTime = std::chrono::milliseconds(300);
 inline constexpr double kSelfTestSpeed = 0.2;  // m/s forward
 
-ControllerPhase controller_phase(Nanos since_power_on, Nanos boot_delay, SelfTest self_test);
+ControllerPhase controller_phase(std::chrono::nanoseconds since_power_on, std::chrono::nanoseconds boot_delay, SelfTest self_test);
 // When the controller starts running its command.
-Nanos running_from(Nanos boot_delay, SelfTest self_test);
+std::chrono::nanoseconds running_from(std::chrono::nanoseconds boot_delay, SelfTest self_test);
 
 std::string_view to_string(ControllerPhase phase);
 

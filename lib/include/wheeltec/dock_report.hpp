@@ -5,6 +5,7 @@
 
 #include "wheeltec/can_frame.hpp"
 #include "wheeltec/charging_dock.hpp"
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -17,22 +18,22 @@ std::optional<ChargingDockState> decode_dock_report(const CanFrame& frame);
 // has come for `timeout` (times from one monotonic clock).
 class DockPresence {
  public:
-  static constexpr Nanos kDefaultTimeout = std::chrono::seconds(3);
+  static constexpr std::chrono::nanoseconds kDefaultTimeout = std::chrono::seconds(3);
 
-  explicit DockPresence(Nanos timeout = kDefaultTimeout) : timeout_(timeout) {}
+  explicit DockPresence(std::chrono::nanoseconds timeout = kDefaultTimeout) : timeout_(timeout) {}
 
-  void heard(const ChargingDockState& report, Nanos now);
+  void heard(const ChargingDockState& report, MonotonicNanos now);
   // Forgets the dock if its last report is older than the timeout; true if it did.
-  bool expire(Nanos now);
+  bool expire(MonotonicNanos now);
 
   // The latest report while the dock counts as present.
   const std::optional<ChargingDockState>& report() const { return report_; }
   // When the dock counts as gone unless it is heard again; meaningful while present.
-  Nanos deadline() const { return last_heard_ + timeout_; }
+  MonotonicNanos deadline() const { return last_heard_ + timeout_; }
 
  private:
-  Nanos timeout_;
-  Nanos last_heard_{};
+  std::chrono::nanoseconds timeout_;
+  MonotonicNanos last_heard_{};
   std::optional<ChargingDockState> report_;
 };
 

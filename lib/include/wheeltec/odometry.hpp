@@ -3,6 +3,7 @@
 #include <chrono>
 #include <optional>
 
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -17,16 +18,16 @@ struct Pose {
 // max_step (the chassis was offline) is not integrated; the next record restarts it.
 class Odometry {
  public:
-  explicit Odometry(Nanos max_step = std::chrono::milliseconds(500));
+  explicit Odometry(std::chrono::nanoseconds max_step = std::chrono::milliseconds(500));
 
-  void update(const Velocity& measured, Nanos time);
+  void update(const Velocity& measured, RealtimeNanos time);
   void reset();
   const Pose& pose() const { return pose_; }
 
  private:
-  Nanos max_step_;
+  std::chrono::nanoseconds max_step_;
   Pose pose_;
-  std::optional<Nanos> last_time_;
+  std::optional<RealtimeNanos> last_time_;
   Velocity last_velocity_;
 };
 

@@ -6,6 +6,7 @@
 #include "wheeltec/attitude_filter.hpp"
 #include "wheeltec/odometry.hpp"
 #include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -13,7 +14,7 @@ namespace wheeltec {
 // One accepted record as the API publishes it.
 struct TelemetrySample {
   std::uint64_t seq = 0;
-  Nanos time{};  // kernel receive time of the closing 0x103 (since the epoch)
+  RealtimeNanos time{};  // kernel receive time of the closing 0x103 (since the epoch)
   TelemetryRecord record;
   bool battery_low = false;
   Pose odom;

@@ -9,6 +9,7 @@
 
 #include "wheeltec/can_frame.hpp"
 #include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/clocks.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -46,7 +47,7 @@ struct ReassemblyCounters {
 
 struct AssembledRecord {
   RecordBytes bytes;
-  Nanos time;  // receive time of the closing 0x103 frame
+  RealtimeNanos time;  // receive time of the closing 0x103 frame
 };
 
 // Rebuilds 24-byte telemetry records from 0x101, 0x102, 0x103 frames (in that order,
@@ -56,11 +57,11 @@ struct AssembledRecord {
 // Never allocates.
 class TelemetryReassembler {
  public:
-  explicit TelemetryReassembler(Nanos max_gap = std::chrono::milliseconds(20));
+  explicit TelemetryReassembler(std::chrono::nanoseconds max_gap = std::chrono::milliseconds(20));
 
   // `time` is the frame's receive time. Returns a record when this frame completes
   // a group that passes check_record().
-  std::optional<AssembledRecord> feed(const CanFrame& frame, Nanos time);
+  std::optional<AssembledRecord> feed(const CanFrame& frame, RealtimeNanos time);
 
   // Forgets any partial group without counting it (e.g. the link went down).
   void reset();
@@ -71,11 +72,11 @@ class TelemetryReassembler {
   // The first three are also the slot of the frame due next.
   enum class Stage { idle = 0, have_first = 1, have_second = 2, resync = 3 };
 
-  std::optional<AssembledRecord> feed_out_of_course(const CanFrame& frame, Nanos time);
+  std::optional<AssembledRecord> feed_out_of_course(const CanFrame& frame, RealtimeNanos time);
 
-  Nanos max_gap_;
+  std::chrono::nanoseconds max_gap_;
   Stage stage_ = Stage::idle;
-  Nanos last_time_{};
+  RealtimeNanos last_time_{};
   RecordBytes bytes_{};
   ReassemblyCounters counters_;
 };

@@ -6,10 +6,6 @@
 
 namespace wheeltec {
 
-// Time as the kernel stamps CAN frames (CLOCK_REALTIME) or as a steady clock reads;
-// which one is stated where it is used.
-using Nanos = std::chrono::nanoseconds;
-
 // Body velocity in SI units: m/s forward, m/s to the left, rad/s counter-clockwise.
 struct Velocity {
   double vx = 0.0;

@@ -12,7 +12,7 @@ namespace wheeltec {
 // One driven wheel of the emulated chassis: the firmware's incremental PI speed
 // controller, a first-order DC motor and a quadrature encoder read once per period.
 struct WheelParameters {
-  Nanos period = std::chrono::milliseconds(10);  // the firmware's 100 Hz control loop
+  std::chrono::nanoseconds period = std::chrono::milliseconds(10);  // the firmware's 100 Hz control loop
   double kp = 300.0;                  // PWM per (m/s) of error change
   double ki = 300.0;                  // PWM per (m/s) of error, per period
   double pwm_limit = 16700.0;         // saturation of current boards

@@ -1,0 +1,29 @@
+#include "control_io.hpp"
+
+#include <boost/asio/error.hpp>
+
+namespace wheeltec::daemon {
+
+ControlIo::ControlIo(boost::asio::io_context& io, CanLink& link, double rate_hz)
+    : bus_(link),
+      period_timer_(io),
+      enable_timer_(io),
+      deadman_timer_(io),
+      stall_guard_(link.interface(), rate_hz) {}
+
+void ControlIo::AsioTimer::wait_until(MonotonicNanos expiry, Handler handler) {
+  const std::uint64_t generation = ++generation_;
+  timer_.expires_at(expiry);
+  timer_.async_wait([this, generation, handler = std::move(handler)](const boost::system::error_code& ec) {
+    // Aborted: the timer may be gone, do not touch it.
+    if (ec == boost::asio::error::operation_aborted || generation != generation_) return;
+    handler();
+  });
+}
+
+void ControlIo::AsioTimer::cancel() {
+  ++generation_;
+  timer_.cancel();
+}
+
+}  // namespace wheeltec::daemon

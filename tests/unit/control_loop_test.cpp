@@ -1,0 +1,435 @@
+#include "control_loop.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "wheeltec/control_frame.hpp"
+
+namespace wheeltec::daemon {
+namespace {
+
+using namespace std::chrono_literals;
+using std::chrono::nanoseconds;
+
+// Something that fires at a simulated time: a one-shot wait or the periodic tick.
+class SimulatedEvent {
+ public:
+  virtual ~SimulatedEvent() = default;
+  std::optional<MonotonicNanos> due() const { return due_; }
+  std::uint64_t order() const { return order_; }
+  virtual void fire() = 0;
+
+ protected:
+  void schedule(MonotonicNanos at, std::uint64_t order) {
+    due_ = at;
+    order_ = order;
+  }
+  void unschedule() { due_.reset(); }
+
+ private:
+  std::optional<MonotonicNanos> due_;
+  std::uint64_t order_ = 0;  // among events due at the same time, the one scheduled first fires first
+};
+
+// A frame on the bus, as the chassis reads it.
+struct BusFrame {
+  MonotonicNanos time;
+  std::optional<bool> enable;         // an enable frame: its flag
+  std::optional<Velocity> velocity;   // a control frame: the velocity it commands
+};
+
+// The simulated clock, bus, timers and stall guard: time moves only in advance_to().
+class Simulation : public MonotonicClock, public FrameSink, public StallGuard {
+ public:
+  explicit Simulation(Dialect dialect) : dialect_(dialect) {}
+
+  class Timer : public OneShotTimer, public SimulatedEvent {
+   public:
+    explicit Timer(Simulation& sim) : sim_(sim) {}
+    void wait_until(MonotonicNanos expiry, Handler handler) override {
+      handler_ = std::move(handler);
+      schedule(expiry, sim_.next_order());
+    }
+    void cancel() override { unschedule(); }
+    void fire() override {
+      unschedule();
+      Handler handler = std::move(handler_);
+      handler();
+    }
+
+   private:
+    Simulation& sim_;
+    Handler handler_;
+  };
+
+  class Ticker : public TickSource, public SimulatedEvent {
+   public:
+    explicit Ticker(Simulation& sim) : sim_(sim) {}
+    void on_tick(Handler handler) override { handler_ = std::move(handler); }
+    void start(nanoseconds period) override {
+      period_ = period;
+      schedule(sim_.now() + period, sim_.next_order());
+    }
+    void stop() override { unschedule(); }
+    void fire() override {
+      schedule(*due() + period_, sim_.next_order());
+      handler_();
+    }
+
+   private:
+    Simulation& sim_;
+    Handler handler_;
+    nanoseconds period_{};
+  };
+
+  MonotonicNanos now() const override { return now_; }
+  bool bus_down() const override { return bus_down_; }
+  bool send(const CanFrame& frame) override {
+    BusFrame seen{now_, decode_enable_frame(frame), std::nullopt};
+    if (!seen.enable) {
+      const auto command = decode_control_frame(dialect_, frame);
+      EXPECT_TRUE(command.has_value()) << "neither a control nor an enable frame: ID " << frame.id;
+      if (command) seen.velocity = command_velocity(*command);
+    }
+    bus_.push_back(seen);
+    return true;
+  }
+  void start() override { guard_started_ = true; }
+  void beat(std::uint32_t zero_frame_id) override {
+    ++beats_;
+    guard_zero_id_ = zero_frame_id;
+  }
+  void disarm() override { guard_zero_id_ = 0; }
+
+  // Fires every event due up to `time`, in time order, each at its own time.
+  void advance_to(MonotonicNanos time) {
+    while (true) {
+      SimulatedEvent* next = nullptr;
+      for (SimulatedEvent* event : events_) {
+        if (!event->due() || *event->due() > time) continue;
+        if (!next || std::pair(*event->due(), event->order()) < std::pair(*next->due(), next->order())) next = event;
+      }
+      if (!next) break;
+      now_ = *next->due();
+      next->fire();
+    }
+    now_ = time;
+  }
+  void advance(nanoseconds duration) { advance_to(now_ + duration); }
+
+  // The frames sent since the last call.
+  std::vector<BusFrame> take_frames() { return std::exchange(bus_, {}); }
+
+  ControlPorts ports() { return {*this, *this, period_, enable_, deadman_, *this}; }
+
+  MonotonicNanos now_{1000s};
+  bool bus_down_ = false;
+  bool guard_started_ = false;
+  int beats_ = 0;
+  std::uint32_t guard_zero_id_ = 0;
+
+ private:
+  std::uint64_t next_order() { return ++order_; }
+
+  Dialect dialect_;
+  std::uint64_t order_ = 0;
+  std::vector<BusFrame> bus_;
+  Ticker period_{*this};
+  Timer enable_{*this};
+  Timer deadman_{*this};
+  std::vector<SimulatedEvent*> events_{&period_, &enable_, &deadman_};
+};
+
+constexpr ClientId kAlice = 1;
+constexpr ClientId kBob = 2;
+const Velocity kForward{0.3, 0.0, 0.5};
+const Velocity kZero{};
+constexpr nanoseconds kPeriod = 50ms;    // 20 Hz
+constexpr nanoseconds kTimeout = 500ms;  // command_timeout_s
+
+GatewayConfig config_for(Dialect dialect) {
+  GatewayConfig config;
+  config.can.dialect = dialect;
+  config.control.rate_hz = 20.0;
+  config.control.command_timeout_s = 0.5;
+  config.control.enable_refresh_s = 1.0;
+  return config;
+}
+
+std::vector<Velocity> velocities(const std::vector<BusFrame>& frames) {
+  std::vector<Velocity> out;
+  for (const BusFrame& frame : frames) {
+    if (frame.velocity) out.push_back(*frame.velocity);
+  }
+  return out;
+}
+
+int enable_frames(const std::vector<BusFrame>& frames, bool flag) {
+  return static_cast<int>(std::count_if(frames.begin(), frames.end(), [&](const BusFrame& f) { return f.enable == flag; }));
+}
+
+class ControlLoopTest : public ::testing::Test {
+ protected:
+  explicit ControlLoopTest(Dialect dialect = Dialect::manual)
+      : sim_(dialect), config_(config_for(dialect)), loop_(sim_.ports(), config_) {
+    loop_.on_change([this] { ++changes_; });
+  }
+
+  // Started, enabled, and the start-up frames taken off the bus.
+  void start() {
+    loop_.start();
+    sim_.take_frames();
+    changes_ = 0;
+  }
+
+  static void expect_zero_then_disable(const std::vector<BusFrame>& frames) {
+    ASSERT_EQ(frames.size(), 2u);
+    EXPECT_EQ(frames[0].velocity, kZero);
+    EXPECT_EQ(frames[1].enable, false);
+  }
+
+  Simulation sim_;
+  GatewayConfig config_;
+  ControlLoop loop_;
+  int changes_ = 0;
+};
+
+TEST_F(ControlLoopTest, StartSendsZeroThenEnablesAndRepeatsEveryPeriod) {
+  loop_.start();
+  const auto frames = sim_.take_frames();
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(frames[0].velocity, kZero) << "the first frame is zero";
+  EXPECT_EQ(frames[1].enable, true);
+  EXPECT_EQ(frames[2].velocity, kZero);
+  EXPECT_TRUE(loop_.enabled());
+  EXPECT_TRUE(sim_.guard_started_);
+
+  sim_.advance(kPeriod - 1ns);
+  EXPECT_TRUE(sim_.take_frames().empty());
+  sim_.advance(1ns);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
+  sim_.advance(10 * kPeriod);
+  EXPECT_EQ(velocities(sim_.take_frames()).size(), 10u);
+}
+
+TEST_F(ControlLoopTest, DriveSendsAtOnceAndTheLastCommandEveryPeriod) {
+  start();
+  const DriveResult result = loop_.drive(kAlice, kForward);
+  EXPECT_EQ(result.outcome, DriveOutcome::accepted);
+  EXPECT_EQ(result.sent, kForward);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kForward});
+  EXPECT_EQ(loop_.owner(), kAlice);
+  EXPECT_EQ(changes_, 1);
+
+  // Frames stay on the grid the loop started with: the first one 50 ms after start().
+  sim_.advance(2 * kPeriod);
+  const auto frames = sim_.take_frames();
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[0].time, MonotonicNanos{1000s} + kPeriod);
+  EXPECT_EQ(velocities(frames), (std::vector<Velocity>{kForward, kForward}));
+}
+
+TEST_F(ControlLoopTest, TheSameTargetAgainAddsNoFrameBetweenPeriods) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.take_frames();
+  sim_.advance(10ms);
+  loop_.drive(kAlice, kForward);
+  loop_.drive(kAlice, kForward);
+  EXPECT_TRUE(sim_.take_frames().empty()) << "only a changed target goes out between periods";
+  EXPECT_EQ(changes_, 1);
+  loop_.drive(kAlice, {0.1, 0.0, 0.0});
+  EXPECT_EQ(velocities(sim_.take_frames()), (std::vector<Velocity>{{0.1, 0.0, 0.0}}));
+}
+
+TEST_F(ControlLoopTest, TargetIsClampedToTheLimits) {
+  start();
+  const DriveResult result = loop_.drive(kAlice, {2.5, 0.0, -9.0});
+  EXPECT_TRUE(result.clamped);
+  const Velocity limited{1.0, 0.0, -3.0};
+  EXPECT_EQ(result.sent, limited);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{limited});
+}
+
+TEST_F(ControlLoopTest, DeadmanLapsesExactlyAtTheDeadline) {
+  start();
+  sim_.advance(20ms);  // off the period grid, so that only the deadman acts at the deadline
+  const MonotonicNanos driven = sim_.now();
+  loop_.drive(kAlice, kForward);
+  sim_.take_frames();
+
+  sim_.advance_to(driven + kTimeout - 1us);
+  EXPECT_EQ(loop_.owner(), kAlice);
+  const auto before = velocities(sim_.take_frames());
+  ASSERT_FALSE(before.empty());
+  EXPECT_TRUE(std::all_of(before.begin(), before.end(), [](const Velocity& v) { return v == kForward; }));
+
+  sim_.advance_to(driven + kTimeout);
+  EXPECT_EQ(loop_.owner(), std::nullopt);
+  EXPECT_EQ(loop_.target(), kZero);
+  const auto at_deadline = sim_.take_frames();
+  ASSERT_EQ(at_deadline.size(), 1u);
+  EXPECT_EQ(at_deadline[0].time, driven + kTimeout);
+  EXPECT_EQ(at_deadline[0].velocity, kZero);
+  EXPECT_EQ(changes_, 2) << "taken, then released";
+
+  sim_.advance(kPeriod);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
+}
+
+TEST_F(ControlLoopTest, DeadmanOnAPeriodTickSendsZeroNotTheLapsedCommand) {
+  start();
+  loop_.drive(kAlice, kForward);  // at the start of the grid: the deadline falls on a tick
+  sim_.take_frames();
+  sim_.advance(kTimeout - 1ns);
+  sim_.take_frames();
+  sim_.advance(1ns);
+  const auto frames = velocities(sim_.take_frames());
+  ASSERT_FALSE(frames.empty());
+  EXPECT_TRUE(std::all_of(frames.begin(), frames.end(), [](const Velocity& v) { return v == kZero; }));
+  EXPECT_EQ(loop_.owner(), std::nullopt);
+}
+
+TEST_F(ControlLoopTest, EachDriveMovesTheDeadline) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.advance(400ms);
+  const MonotonicNanos last_drive = sim_.now();
+  loop_.drive(kAlice, kForward);
+  sim_.advance_to(last_drive + kTimeout - 1us);
+  EXPECT_EQ(loop_.owner(), kAlice);
+  EXPECT_EQ(velocities(sim_.take_frames()).back(), kForward);
+  sim_.advance_to(last_drive + kTimeout);
+  EXPECT_EQ(loop_.owner(), std::nullopt);
+  EXPECT_EQ(velocities(sim_.take_frames()).back(), kZero);
+}
+
+TEST_F(ControlLoopTest, AnotherClientIsRefusedWhileTheOwnerDrives) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.take_frames();
+  EXPECT_EQ(loop_.drive(kBob, {-0.5, 0.0, 0.0}).outcome, DriveOutcome::control_held);
+  EXPECT_TRUE(sim_.take_frames().empty());
+  EXPECT_EQ(changes_, 1);
+
+  // Once Alice's command lapses, Bob takes control.
+  sim_.advance(kTimeout);
+  sim_.take_frames();
+  EXPECT_EQ(loop_.drive(kBob, {-0.5, 0.0, 0.0}).outcome, DriveOutcome::accepted);
+  EXPECT_EQ(loop_.owner(), kBob);
+  EXPECT_EQ(velocities(sim_.take_frames()), (std::vector<Velocity>{{-0.5, 0.0, 0.0}}));
+}
+
+TEST_F(ControlLoopTest, OwnerGoneSendsZeroAtOnceOthersGoneChangeNothing) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.take_frames();
+  loop_.client_gone(kBob);
+  EXPECT_TRUE(sim_.take_frames().empty());
+  EXPECT_EQ(loop_.owner(), kAlice);
+
+  loop_.client_gone(kAlice);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
+  EXPECT_EQ(loop_.owner(), std::nullopt);
+  EXPECT_EQ(loop_.drive(kBob, kForward).outcome, DriveOutcome::accepted);
+}
+
+TEST_F(ControlLoopTest, StopSendsZeroAtOnceEvenWhenAlreadyZero) {
+  start();
+  loop_.stop();
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
+  EXPECT_EQ(changes_, 0) << "nothing changed";
+  loop_.drive(kAlice, kForward);
+  sim_.take_frames();
+  loop_.stop();
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
+  EXPECT_EQ(loop_.owner(), std::nullopt);
+  EXPECT_EQ(changes_, 2);
+}
+
+TEST_F(ControlLoopTest, DisableSendsZeroThenDisableAndStopsTheFrames) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.take_frames();
+  loop_.disable();
+  expect_zero_then_disable(sim_.take_frames());
+  EXPECT_FALSE(loop_.enabled());
+  EXPECT_EQ(sim_.guard_zero_id_, 0u) << "the stall guard is disarmed";
+  EXPECT_EQ(loop_.drive(kAlice, kForward).outcome, DriveOutcome::control_disabled);
+  sim_.advance(5s);
+  EXPECT_TRUE(sim_.take_frames().empty());
+}
+
+TEST_F(ControlLoopTest, EnableFrameIsRefreshedEverySecond) {
+  start();
+  sim_.advance(1s - 1ns);
+  EXPECT_EQ(enable_frames(sim_.take_frames(), true), 0);
+  sim_.advance(1ns);
+  EXPECT_EQ(enable_frames(sim_.take_frames(), true), 1);
+  sim_.advance(3s);
+  EXPECT_EQ(enable_frames(sim_.take_frames(), true), 3);
+}
+
+TEST_F(ControlLoopTest, ShutdownSendsZeroThenDisableAndNothingMore) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.take_frames();
+  loop_.shutdown();
+  expect_zero_then_disable(sim_.take_frames());
+  sim_.advance(5s);
+  EXPECT_TRUE(sim_.take_frames().empty());
+}
+
+TEST_F(ControlLoopTest, StallGuardBeatsEachPeriodWithTheZeroFrameId) {
+  start();
+  const int beats = sim_.beats_;
+  sim_.advance(10 * kPeriod);
+  EXPECT_EQ(sim_.beats_ - beats, 10);
+  EXPECT_EQ(sim_.guard_zero_id_, kManualControlId);
+}
+
+TEST_F(ControlLoopTest, BusDownRefusesDrivesAndLinkUpCatchesUp) {
+  start();
+  sim_.bus_down_ = true;
+  EXPECT_EQ(loop_.drive(kAlice, kForward).outcome, DriveOutcome::bus_down);
+  sim_.advance(kPeriod);
+  EXPECT_TRUE(sim_.take_frames().empty());
+  sim_.bus_down_ = false;
+  loop_.link_came_up();
+  const auto frames = sim_.take_frames();
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[0].enable, true);
+  EXPECT_EQ(frames[1].velocity, kZero);
+}
+
+TEST_F(ControlLoopTest, ReloadedRateRestartsTheGrid) {
+  start();
+  sim_.advance(20ms);
+  GatewayConfig faster = config_;
+  faster.control.rate_hz = 100.0;
+  loop_.apply(faster);
+  sim_.advance(100ms);
+  EXPECT_EQ(velocities(sim_.take_frames()).size(), 10u);
+}
+
+class ControlLoop0x181Test : public ControlLoopTest {
+ protected:
+  ControlLoop0x181Test() : ControlLoopTest(Dialect::id_0x181) {}
+};
+
+TEST_F(ControlLoop0x181Test, NoEnableFramesAndTheDeadmanStillLapses) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.advance(kTimeout);
+  const auto frames = sim_.take_frames();
+  EXPECT_EQ(enable_frames(frames, true) + enable_frames(frames, false), 0);
+  EXPECT_EQ(velocities(frames).back(), kZero);
+  EXPECT_EQ(sim_.guard_zero_id_, kControl0x181Id);
+}
+
+}  // namespace
+}  // namespace wheeltec::daemon
