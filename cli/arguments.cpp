@@ -3,13 +3,12 @@
 #include <charconv>
 #include <cmath>
 
+#include "wheeltec/client/connection.hpp"
+
 namespace wheeltecctl {
 
-std::string resolve_socket_path(const std::optional<std::string>& option,
-                                const char* environment_value) {
-  if (option) return *option;
-  if (environment_value != nullptr && *environment_value != '\0') return environment_value;
-  return std::string(kDefaultSocketPath);
+std::string resolve_socket_path(const std::optional<std::string>& option) {
+  return option ? *option : wheeltec::client::socket_path_from_environment();
 }
 
 std::optional<double> parse_finite_number(std::string_view text) {

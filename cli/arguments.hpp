@@ -11,12 +11,8 @@
 // Pure interpretation of command-line values (no I/O), kept apart for unit tests.
 namespace wheeltecctl {
 
-inline constexpr std::string_view kDefaultSocketPath = "/run/wheeltecd/wheeltecd.sock";
-inline constexpr std::string_view kSocketEnvironmentVariable = "WHEELTEC_SOCKET";
-
 // --socket, else $WHEELTEC_SOCKET (when set and not empty), else the daemon default.
-std::string resolve_socket_path(const std::optional<std::string>& option,
-                                const char* environment_value);
+std::string resolve_socket_path(const std::optional<std::string>& option);
 
 // A finite decimal number, the whole text (leading/trailing spaces rejected).
 std::optional<double> parse_finite_number(std::string_view text);

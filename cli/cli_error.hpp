@@ -23,22 +23,4 @@ class CliError : public std::runtime_error {
   int exit_code_;
 };
 
-// The daemon answered a request with a JSON-RPC error object.
-class RpcError : public CliError {
- public:
-  RpcError(const std::string& method, int code, const std::string& message)
-      : CliError(kExitFailure, method + ": " + message + " (code " + std::to_string(code) + ")"),
-        method_(method),
-        code_(code),
-        daemon_message_(message) {}
-  const std::string& method() const noexcept { return method_; }
-  int code() const noexcept { return code_; }
-  const std::string& daemon_message() const noexcept { return daemon_message_; }
-
- private:
-  std::string method_;
-  int code_;
-  std::string daemon_message_;
-};
-
 }  // namespace wheeltecctl

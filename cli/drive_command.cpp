@@ -4,9 +4,8 @@
 
 #include "cli_error.hpp"
 #include "commands.hpp"
+#include "daemon_session.hpp"
 #include "human_format.hpp"
-#include "interrupt_signals.hpp"
-#include "rpc_client.hpp"
 
 namespace wheeltecctl {
 namespace {
@@ -17,12 +16,10 @@ constexpr std::chrono::milliseconds kResendPeriod{100};
 }  // namespace
 
 int run_drive(const GlobalOptions& options, const wheeltec::Velocity& velocity, double seconds) {
-  using Clock = InterruptSignals::Clock;
-  RpcClient client(options.socket_path);
-  InterruptSignals signals;
-  const Json params = {{"vx", velocity.vx}, {"vy", velocity.vy}, {"wz", velocity.wz}};
-
-  const Json first_result = client.call("drive", params);
+  using Clock = DaemonSession::Clock;
+  DaemonSession daemon(options.socket_path);
+  daemon.catch_interrupts();
+  const Json first_result = daemon.drive(velocity);
   const auto start = Clock::now();
   const auto end = start + std::chrono::duration_cast<Clock::duration>(
                                std::chrono::duration<double>(seconds));
@@ -35,24 +32,24 @@ int run_drive(const GlobalOptions& options, const wheeltec::Velocity& velocity, 
   auto next_send = start + kResendPeriod;
   bool interrupted = false;
   for (;;) {
-    if (signals.wait({}, std::min(next_send, end)) == InterruptSignals::Wake::interrupted) {
+    if (daemon.wait(std::min(next_send, end)) == DaemonSession::Wake::interrupted) {
       interrupted = true;
       break;
     }
     const auto now = Clock::now();
     if (now >= end) break;
     if (now < next_send) continue;
-    client.call("drive", params);
+    daemon.drive(velocity);
     next_send = std::max(next_send + kResendPeriod, Clock::now());
   }
 
-  const Json stop_result = client.call("stop");
+  const Json stop_result = daemon.call("stop");
   if (options.json) {
     std::cout << stop_result.dump() << std::endl;
   } else {
     std::cout << (interrupted ? "interrupted, stopped" : "stopped") << std::endl;
   }
-  return interrupted ? 128 + signals.received() : kExitOk;
+  return interrupted ? 128 + daemon.received_signal() : kExitOk;
 }
 
 }  // namespace wheeltecctl

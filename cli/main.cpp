@@ -1,6 +1,4 @@
-#include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -11,15 +9,16 @@
 #include "arguments.hpp"
 #include "cli_error.hpp"
 #include "commands.hpp"
-#include "wheeltec/version.hpp"
+#include "wheeltec/client/connection.hpp"
+#include "wheeltec/command_line.hpp"
 
 namespace {
 
 using namespace wheeltecctl;
 
 std::string help_footer() {
-  return "Socket: --socket PATH, else $" + std::string(kSocketEnvironmentVariable) + ", else " +
-         std::string(kDefaultSocketPath) +
+  return "Socket: --socket PATH, else $" + std::string(wheeltec::client::kSocketEnvironmentVariable) + ", else " +
+         std::string(wheeltec::client::kDefaultSocketPath) +
          ".\n"
          "Exit status: 0 success, 1 the daemon returned an error or the connection failed,\n"
          "2 bad usage, 3 the daemon cannot be reached.";
@@ -27,7 +26,7 @@ std::string help_footer() {
 
 int run(int argc, char** argv) {
   CLI::App app{"Command-line client of the wheeltecd robot chassis gateway.", "wheeltecctl"};
-  app.set_version_flag("--version", std::string("wheeltecctl ") + wheeltec::kVersion);
+  wheeltec::command_line::add_version_flag(app);
   app.footer(help_footer());
   // At most one command; a missing one is reported after parsing, so that an unknown
   // word gets CLI11's "not expected" message rather than "subcommand required".
@@ -47,11 +46,7 @@ int run(int argc, char** argv) {
   std::int64_t watch_count = 0;
   CLI::App* watch = app.add_subcommand("watch", "Stream telemetry, one line per record");
   watch->add_option("-n,--count", watch_count, "Stop after COUNT records (0: until Ctrl-C)")
-      ->check(CLI::Validator(
-          [](const std::string& text) {
-            return text.starts_with('-') ? std::string("COUNT must be 0 or more") : std::string();
-          },
-          ""))
+      ->check(wheeltec::command_line::finite_in(0.0).description(""))
       ->type_name("COUNT");
 
   std::vector<std::string> drive_values;
@@ -65,6 +60,7 @@ int run(int argc, char** argv) {
       ->expected(2, 3)
       ->type_name("VX [VY] WZ");
   drive->add_option("--for", drive_seconds, "Seconds to keep driving (default 1)")
+      ->check(wheeltec::command_line::finite_in(0.0).description(""))
       ->type_name("SECONDS");
 
   app.add_subcommand("stop", "Stop the robot now and release control (works for anyone)");
@@ -81,6 +77,8 @@ int run(int argc, char** argv) {
       "for the hold time, so holding a key down keeps it going and releasing it stops\n"
       "it; raise --hold if your keyboard's auto-repeat delay is longer.");
   teleop->add_option("--hold", hold_seconds, "Seconds one key press keeps moving (default 0.5)")
+      ->check(wheeltec::command_line::finite_in(0.0, 10.0, wheeltec::command_line::LowBound::exclusive)
+                  .description(""))
       ->type_name("SECONDS");
 
   try {
@@ -95,9 +93,7 @@ int run(int argc, char** argv) {
 
   GlobalOptions options;
   options.socket_path = resolve_socket_path(
-      app.get_option("--socket")->count() > 0 ? std::optional<std::string>(socket_option)
-                                              : std::nullopt,
-      std::getenv(std::string(kSocketEnvironmentVariable).c_str()));
+      app.get_option("--socket")->count() > 0 ? std::optional<std::string>(socket_option) : std::nullopt);
   options.json = json;
   if (options.socket_path.empty()) throw CliError(kExitUsage, "--socket needs a path");
 
@@ -115,17 +111,9 @@ int run(int argc, char** argv) {
     if (const auto* message = std::get_if<std::string>(&velocity)) {
       throw CliError(kExitUsage, *message);
     }
-    if (!std::isfinite(drive_seconds) || drive_seconds < 0.0) {
-      throw CliError(kExitUsage, "drive: --for needs a number of seconds >= 0");
-    }
     return run_drive(options, std::get<wheeltec::Velocity>(velocity), drive_seconds);
   }
-  if (name == "teleop") {
-    if (!std::isfinite(hold_seconds) || hold_seconds <= 0.0 || hold_seconds > 10.0) {
-      throw CliError(kExitUsage, "teleop: --hold needs seconds in (0, 10]");
-    }
-    return run_teleop(options, hold_seconds);
-  }
+  if (name == "teleop") return run_teleop(options, hold_seconds);
   return run_action(options, name == "reset-odometry" ? std::string("reset_odometry") : name);
 }
 

@@ -2,14 +2,14 @@
 
 #include "cli_error.hpp"
 #include "commands.hpp"
+#include "daemon_session.hpp"
 #include "human_format.hpp"
-#include "rpc_client.hpp"
 
 namespace wheeltecctl {
 
 int run_query(const GlobalOptions& options, const std::string& method) {
-  RpcClient client(options.socket_path);
-  const Json result = client.call(method);
+  DaemonSession daemon(options.socket_path);
+  const Json result = daemon.call(method);
   if (options.json) {
     std::cout << result.dump() << '\n';
   } else if (method == "status") {
@@ -26,8 +26,8 @@ int run_query(const GlobalOptions& options, const std::string& method) {
 }
 
 int run_action(const GlobalOptions& options, const std::string& method) {
-  RpcClient client(options.socket_path);
-  const Json result = client.call(method);
+  DaemonSession daemon(options.socket_path);
+  const Json result = daemon.call(method);
   std::cout << (options.json ? result.dump() : std::string("ok")) << std::endl;
   return kExitOk;
 }

@@ -6,27 +6,28 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <utility>
 
+#include <boost/asio/posix/stream_descriptor.hpp>
 #include <fmt/format.h>
 
 #include "cli_error.hpp"
 #include "commands.hpp"
-#include "interrupt_signals.hpp"
-#include "rpc_client.hpp"
+#include "daemon_session.hpp"
 #include "teleop_keys.hpp"
 #include "terminal_raw_mode.hpp"
 
 namespace wheeltecctl {
 namespace {
 
-using Clock = InterruptSignals::Clock;
+using Clock = DaemonSession::Clock;
 
 // Well under the daemon's default deadman (control.command_timeout_s = 0.5).
 constexpr std::chrono::milliseconds kResendPeriod{100};
 
 class TeleopSession {
  public:
-  TeleopSession(RpcClient& client, Clock::duration hold) : client_(client), hold_(hold) {}
+  TeleopSession(DaemonSession& daemon, Clock::duration hold) : daemon_(daemon), hold_(hold) {}
 
   // Applies one chunk of keyboard input; false once a quit key was read.
   bool handle_input(std::string_view bytes) {
@@ -87,14 +88,13 @@ class TeleopSession {
   void send_drive() {
     const wheeltec::Velocity velocity = teleop_velocity(direction_, speeds_);
     try {
-      const Json result = client_.call(
-          "drive", Json{{"vx", velocity.vx}, {"vy", velocity.vy}, {"wz", velocity.wz}});
+      const Json result = daemon_.drive(velocity);
       const auto clamped = result.find("clamped");
       note_ = clamped != result.end() && *clamped == true ? "clamped by the daemon's limits" : "";
       next_send_ = Clock::now() + kResendPeriod;
-    } catch (const RpcError& error) {
+    } catch (const wheeltec::client::RpcError& error) {
       // Not driving (held by another client, disabled, bus down...): show it, go idle.
-      note_ = error.daemon_message() + " (code " + std::to_string(error.code()) + ")";
+      note_ = error.message() + " (code " + std::to_string(error.code()) + ")";
       moving_until_.reset();
     }
   }
@@ -102,14 +102,14 @@ class TeleopSession {
   void send_stop() {
     moving_until_.reset();
     try {
-      client_.call("stop");
+      daemon_.call("stop");
       note_.clear();
-    } catch (const RpcError& error) {
-      note_ = "stop: " + error.daemon_message() + " (code " + std::to_string(error.code()) + ")";
+    } catch (const wheeltec::client::RpcError& error) {
+      note_ = error.what();
     }
   }
 
-  RpcClient& client_;
+  DaemonSession& daemon_;
   Clock::duration hold_;
   TeleopSpeeds speeds_;
   MotionDirection direction_;
@@ -122,10 +122,13 @@ class TeleopSession {
 
 int run_teleop(const GlobalOptions& options, double hold_seconds) {
   if (::isatty(STDIN_FILENO) != 1) throw CliError(kExitUsage, "teleop needs a terminal");
-  RpcClient client(options.socket_path);
-  InterruptSignals signals;
-  TeleopSession session(client, std::chrono::duration_cast<Clock::duration>(
+  DaemonSession daemon(options.socket_path);
+  daemon.catch_interrupts();
+  TeleopSession session(daemon, std::chrono::duration_cast<Clock::duration>(
                                     std::chrono::duration<double>(hold_seconds)));
+  // A duplicate, so that closing it leaves standard input open.
+  boost::asio::posix::stream_descriptor keyboard(daemon.io(), ::dup(STDIN_FILENO));
+  bool key_waiting = false;
   int exit_code = kExitOk;
   {
     TerminalRawMode raw_mode(STDIN_FILENO);
@@ -133,13 +136,15 @@ int run_teleop(const GlobalOptions& options, double hold_seconds) {
     try {
       for (bool running = true; running;) {
         session.render();
-        pollfd keyboard{STDIN_FILENO, POLLIN, 0};
-        const auto wake = signals.wait({&keyboard, 1}, session.next_deadline());
-        if (wake == InterruptSignals::Wake::interrupted) {
-          exit_code = 128 + signals.received();
+        keyboard.async_wait(boost::asio::posix::stream_descriptor::wait_read,
+                            [&key_waiting](boost::system::error_code ec) { key_waiting = !ec; });
+        const auto wake = daemon.wait(session.next_deadline(), [&key_waiting] { return key_waiting; });
+        keyboard.cancel();
+        if (wake == DaemonSession::Wake::interrupted) {
+          exit_code = 128 + daemon.received_signal();
           break;
         }
-        if (wake == InterruptSignals::Wake::ready) {
+        if (std::exchange(key_waiting, false)) {
           char bytes[64];
           const ssize_t count = ::read(STDIN_FILENO, bytes, sizeof(bytes));
           if (count <= 0 && !(count < 0 && errno == EINTR)) break;  // terminal gone

@@ -9,12 +9,14 @@
 #include <iostream>
 #include <iterator>
 #include <sstream>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/version.hpp"
+#include "wheeltec/command_line.hpp"
 
 namespace wheeltec::daemon {
 namespace {
@@ -64,30 +66,28 @@ bool sets_key(const nlohmann::json& document, const std::string& key) {
 std::variant<Options, int> parse_command_line(int argc, char** argv) {
   Options options;
   CLI::App app{"wheeltecd: WHEELTEC chassis gateway, SocketCAN to JSON-RPC over a Unix socket", "wheeltecd"};
-  app.set_version_flag("--version", std::string("wheeltecd ") + kVersion, "Print the version and exit");
+  command_line::add_version_flag(app);
   app.add_option("--config", options.config_file, fmt::format("Config file (JSON); default {} if it exists", kDefaultConfigFile))
       ->type_name("FILE");
   app.add_option("--interface", options.interface, "CAN interface, overrides can.interface")->type_name("IFACE");
   app.add_option("--socket", options.socket, "API socket path, overrides api.socket")->type_name("PATH");
-  app.add_option("--chassis", options.chassis, "Chassis type (diff, ackermann, mecanum, omni, tank, 4wd), overrides chassis.type")
+  app.add_option("--chassis", options.chassis,
+                 fmt::format("Chassis type ({}), overrides chassis.type", fmt::join(enum_names<ChassisType>(), ", ")))
       ->type_name("TYPE")
-      ->check(CLI::IsMember({"diff", "ackermann", "mecanum", "omni", "tank", "4wd"}).description(""));
+      ->check(CLI::IsMember(enum_names<ChassisType>()).description(""));
   app.add_option("--dialect", options.dialect, "CAN dialect, overrides can.dialect")
-      ->type_name("manual|0x181")
-      ->check(CLI::IsMember({"manual", "0x181"}).description(""));
+      ->type_name(fmt::format("{}", fmt::join(enum_names<Dialect>(), "|")))
+      ->check(CLI::IsMember(enum_names<Dialect>()).description(""));
+  const std::vector<std::string> log_levels(kLogLevels.begin(), kLogLevels.end());
   app.add_option("--log-level", options.log_level, "Log level, overrides log.level")
-      ->type_name("trace|debug|info|warn|error")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}).description(""));
+      ->type_name(fmt::format("{}", fmt::join(log_levels, "|")))
+      ->check(CLI::IsMember(log_levels).description(""));
   app.add_flag("--check-config", options.check_config, "Validate the merged configuration, print it as JSON and exit");
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return 0;
-  } catch (const CLI::CallForVersion&) {
-    std::cout << "wheeltecd " << kVersion << "\n";
-    return 0;
+  } catch (const CLI::Success& success) {  // --help, --version
+    return app.exit(success);
   } catch (const CLI::ParseError& error) {
     std::cerr << "wheeltecd: " << error.what() << " (see --help)\n";
     return 2;

@@ -1,15 +1,18 @@
 #include "emulator_options.hpp"
 
 #include <array>
-#include <cmath>
 #include <optional>
 #include <iostream>
-#include <map>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <CLI/CLI.hpp>
 
 #include "model_selection.hpp"
-#include "wheeltec/version.hpp"
+#include "wheeltec/command_line.hpp"
 
 namespace wheeltec::emulator {
 
@@ -17,20 +20,8 @@ namespace {
 
 constexpr double kMaxBatteryV = 32.767;  // the record's int16 millivolts
 
-// CLI11's Range lets NaN through; this one does not.
-CLI::Validator finite_in(double low, double high, bool low_inclusive = true) {
-  return CLI::Validator(
-      [=](std::string& text) -> std::string {
-        double value = 0.0;
-        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value)) return "expected a number, got " + text;
-        if ((low_inclusive ? value < low : value <= low) || value > high) {
-          return "value " + text + " not in " + (low_inclusive ? "[" : "(") + CLI::detail::to_string(low) + ", " +
-                 CLI::detail::to_string(high) + "]";
-        }
-        return {};
-      },
-      std::string(low_inclusive ? "[" : "(") + CLI::detail::to_string(low) + ", " + CLI::detail::to_string(high) + "]");
-}
+using command_line::finite_in;
+using command_line::LowBound;
 
 }  // namespace
 
@@ -38,19 +29,17 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
   EmulatorOptions options;
   CLI::App app("wheeltec-emu: emulates the STM32 controller of a WHEELTEC chassis on a (v)can interface",
                "wheeltec-emu");
-  app.set_version_flag("--version", std::string("wheeltec-emu ") + std::string(kVersion));
+  command_line::add_version_flag(app);
 
   app.add_option("--interface", options.interface, "CAN interface")->capture_default_str();
 
-  const std::map<std::string, ChassisType> chassis_types{
-      {"diff", ChassisType::diff},   {"ackermann", ChassisType::ackermann}, {"mecanum", ChassisType::mecanum},
-      {"omni", ChassisType::omni},   {"tank", ChassisType::tank},           {"4wd", ChassisType::four_wd}};
   std::string chassis;
   CLI::Option* chassis_option =
       app.add_option("--chassis", chassis,
-                     "chassis type: diff, ackermann, mecanum, omni, tank, 4wd (default: that of the model; "
-                     "without --model, the type's Mini model; mecanum)")
-          ->check(CLI::IsMember(chassis_types));
+                     fmt::format("chassis type: {} (default: that of the model; without --model, the type's "
+                                 "Mini model; mecanum)",
+                                 fmt::join(enum_names<ChassisType>(), ", ")))
+          ->check(CLI::IsMember(enum_names<ChassisType>()));
   std::string model_name;
   CLI::Option* model_option =
       app.add_option("--model", model_name, "robot model of the firmware's table (see --list-models; default mini_mec)");
@@ -79,15 +68,15 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
           ->type_name("FILE");
   bool loop = false;
   app.add_flag("--loop", loop, "with --replay: again and again")->needs(replay_option);
-  std::string dialect = "manual";
+  std::string dialect(to_string(options.dialect));
   app.add_option("--dialect", dialect, "CAN dialect: manual (0x121 with enable frame) or 0x181")
-      ->check(CLI::IsMember({"manual", "0x181"}))
+      ->check(CLI::IsMember(enum_names<Dialect>()))
       ->capture_default_str();
-  std::string ackermann_z = "yaw_rate";
+  std::string ackermann_z(to_string(options.ackermann_z));
   app.add_option("--ackermann-z", ackermann_z,
                  "Ackermann only: Z is a yaw_rate (0.001 rad/s, V3.5 firmware) or a steering_angle (0.001 rad, "
                  "C50X firmware)")
-      ->check(CLI::IsMember({"yaw_rate", "steering_angle"}))
+      ->check(CLI::IsMember(enum_names<AckermannZ>()))
       ->capture_default_str();
   // Geometry: the model's unless given.
   struct GeometryFlag {
@@ -110,7 +99,7 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
     const bool zero_allowed = geometry.field == &ChassisGeometry::min_turn_radius;
     app.add_option_function<double>(
            geometry.flag, [&geometry](double value) { geometry.value = value; }, geometry.help)
-        ->check(finite_in(0.0, 100.0, zero_allowed))
+        ->check(finite_in(0.0, 100.0, zero_allowed ? LowBound::inclusive : LowBound::exclusive))
         ->group("Geometry");
   }
   int encoder_lines = 0;
@@ -127,10 +116,10 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
       ->check(finite_in(0.0, 86400.0))
       ->capture_default_str();
   app.add_option("--telemetry-hz", options.telemetry_hz, "telemetry groups per second")
-      ->check(finite_in(0.0, 1000.0, false))
+      ->check(finite_in(0.0, 1000.0, LowBound::exclusive))
       ->capture_default_str();
   app.add_option("--battery", options.battery_v, "battery voltage at start, V")
-      ->check(finite_in(0.0, kMaxBatteryV, false))
+      ->check(finite_in(0.0, kMaxBatteryV, LowBound::exclusive))
       ->capture_default_str();
   app.add_option("--drop", options.faults.drop, "probability that a telemetry frame is not sent")
       ->check(finite_in(0.0, 1.0))
@@ -150,8 +139,8 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
                                        "after SECONDS, go silent for 0.5 s and boot again (once), forgetting "
                                        "any enable and command")
                             ->check(finite_in(0.0, 1e9));
-  app.add_option("--log-level", options.log_level, "trace, debug, info, warn or error")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))
+  app.add_option("--log-level", options.log_level, "log level")
+      ->check(CLI::IsMember(std::vector<std::string>(kLogLevels.begin(), kLogLevels.end())))
       ->capture_default_str();
   std::uint32_t seed = 0;
   CLI::Option* seed_option = app.add_option("--seed", seed, "seed of sensor noise and fault injection");
@@ -162,11 +151,7 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return EarlyExit{app.exit(e)};
-  } catch (const CLI::CallForAllHelp& e) {
-    return EarlyExit{app.exit(e)};
-  } catch (const CLI::CallForVersion& e) {
+  } catch (const CLI::Success& e) {  // --help, --version
     return EarlyExit{app.exit(e)};
   } catch (const CLI::ParseError& e) {
     std::cerr << "wheeltec-emu: " << e.what() << " (see --help)\n";
@@ -177,7 +162,7 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
     return EarlyExit{0};
   }
   const std::optional<ChassisType> chassis_type =
-      *chassis_option ? std::optional(chassis_types.at(chassis)) : std::nullopt;
+      *chassis_option ? parse_enum<ChassisType>(chassis) : std::nullopt;
   const std::variant<const RobotModel*, std::string> selected =
       select_model(*model_option ? std::optional<std::string>(model_name) : std::nullopt, chassis_type);
   if (const auto* error = std::get_if<std::string>(&selected)) {
@@ -186,8 +171,8 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
   }
   options.model = std::get<const RobotModel*>(selected);
   options.chassis = options.model->type;
-  options.dialect = *parse_dialect(dialect);
-  options.ackermann_z = *parse_ackermann_z(ackermann_z);
+  options.dialect = *parse_enum<Dialect>(dialect);
+  options.ackermann_z = *parse_enum<AckermannZ>(ackermann_z);
   options.geometry = options.model->geometry;
   for (const GeometryFlag& geometry : geometry_flags) {
     if (geometry.value) options.geometry.*geometry.field = *geometry.value;

@@ -23,6 +23,7 @@ RpcError::RpcError(const std::string& method, const Json& error)
     : std::runtime_error(method + ": " + error_message(error) + " (code " +
                          std::to_string(error.is_object() ? error.value("code", 0) : 0) + ")"),
       code_(error.is_object() ? error.value("code", 0) : 0),
+      message_(error_message(error)),
       data_(error.is_object() ? error.value("data", Json()) : Json()) {}
 
 Client::Client(const std::string& socket_path) : connection_(io_.get_executor()) {

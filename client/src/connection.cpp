@@ -46,8 +46,8 @@ const boost::system::error_category& rpc_category() noexcept {
 }
 
 std::string socket_path_from_environment() {
-  const char* path = std::getenv("WHEELTEC_SOCKET");
-  return path != nullptr && *path != '\0' ? path : "/run/wheeltecd/wheeltecd.sock";
+  const char* path = std::getenv(std::string(kSocketEnvironmentVariable).c_str());
+  return path != nullptr && *path != '\0' ? std::string(path) : std::string(kDefaultSocketPath);
 }
 
 class Connection::State : public std::enable_shared_from_this<State> {

@@ -32,6 +32,7 @@ Telemetry telemetry_from_json(const Json& record) {
                                         o.at("roll").get<double>(), o.at("pitch").get<double>(),
                                         o.at("yaw").get<double>()};
   }
+  telemetry.json = record;
   return telemetry;
 }
 

@@ -20,13 +20,6 @@ namespace {
 
 using json = nlohmann::json;
 
-constexpr std::array<std::string_view, 5> kLogLevels{"trace", "debug", "info", "warn", "error"};
-constexpr std::array<Dialect, 2> kDialects{Dialect::manual, Dialect::id_0x181};
-constexpr std::array<ChassisType, 6> kChassisTypes{ChassisType::diff,  ChassisType::ackermann,
-                                                   ChassisType::mecanum, ChassisType::omni,
-                                                   ChassisType::tank,  ChassisType::four_wd};
-constexpr std::array<AckermannZ, 2> kAckermannModes{AckermannZ::yaw_rate, AckermannZ::steering_angle};
-
 constexpr std::size_t kIfNameSize = 16;   // IFNAMSIZ, including the terminating NUL
 constexpr std::size_t kSunPathSize = 108; // sizeof(sockaddr_un::sun_path), including the NUL
 constexpr std::uint32_t kMaxMode = 0777;
@@ -85,15 +78,11 @@ std::int64_t read_integer(const json& value, const std::string& path, std::int64
   fail(path, fmt::format("expected an integer, got {}", describe(value)));
 }
 
-template <typename Enum, std::size_t N>
-Enum read_enum(const json& value, const std::string& path, const std::array<Enum, N>& choices) {
+template <typename Enum>
+Enum read_enum(const json& value, const std::string& path) {
   const std::string& text = read_string(value, path);
-  for (Enum choice : choices) {
-    if (to_string(choice) == text) return choice;
-  }
-  std::vector<std::string_view> names;
-  for (Enum choice : choices) names.push_back(to_string(choice));
-  fail(path, fmt::format("must be one of {}, got \"{}\"", fmt::join(names, ", "), text));
+  if (const auto parsed = parse_enum<Enum>(text)) return *parsed;
+  fail(path, fmt::format("must be one of {}, got \"{}\"", fmt::join(enum_names<Enum>(), ", "), text));
 }
 
 // An octal permission string; validate_config checks the value.
@@ -211,7 +200,7 @@ void apply_config(const json& document, GatewayConfig& config) {
     {"can", [&](const json& v, const std::string& p) {
        apply_object(v, p, {
          {"interface", [&](const json& x, const std::string& q) { c.can.interface = read_string(x, q); }},
-         {"dialect", [&](const json& x, const std::string& q) { c.can.dialect = read_enum(x, q, kDialects); }},
+         {"dialect", [&](const json& x, const std::string& q) { c.can.dialect = read_enum<Dialect>(x, q); }},
          {"bitrate", [&](const json& x, const std::string& q) {
             c.can.bitrate = static_cast<std::uint32_t>(
                 read_integer(x, q, 0, std::numeric_limits<std::uint32_t>::max()));
@@ -220,9 +209,9 @@ void apply_config(const json& document, GatewayConfig& config) {
      }},
     {"chassis", [&](const json& v, const std::string& p) {
        apply_object(v, p, {
-         {"type", [&](const json& x, const std::string& q) { c.chassis.type = read_enum(x, q, kChassisTypes); }},
+         {"type", [&](const json& x, const std::string& q) { c.chassis.type = read_enum<ChassisType>(x, q); }},
          {"ackermann_z",
-          [&](const json& x, const std::string& q) { c.chassis.ackermann_z = read_enum(x, q, kAckermannModes); }},
+          [&](const json& x, const std::string& q) { c.chassis.ackermann_z = read_enum<AckermannZ>(x, q); }},
        });
      }},
     {"control", [&](const json& v, const std::string& p) {

@@ -1,22 +1,54 @@
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <optional>
+#include <string>
+
 #include "arguments.hpp"
 
 namespace wheeltecctl {
 namespace {
 
+// Sets $WHEELTEC_SOCKET (nullptr: unsets it) and restores it at the end of the test.
+class SocketEnvironment {
+ public:
+  explicit SocketEnvironment(const char* value) {
+    if (const char* old = std::getenv("WHEELTEC_SOCKET")) saved_ = old;
+    if (value != nullptr) {
+      ::setenv("WHEELTEC_SOCKET", value, 1);
+    } else {
+      ::unsetenv("WHEELTEC_SOCKET");
+    }
+  }
+  ~SocketEnvironment() {
+    if (saved_) {
+      ::setenv("WHEELTEC_SOCKET", saved_->c_str(), 1);
+    } else {
+      ::unsetenv("WHEELTEC_SOCKET");
+    }
+  }
+
+ private:
+  std::optional<std::string> saved_;
+};
+
 TEST(CliArguments, SocketOptionWinsOverEnvironment) {
-  EXPECT_EQ(resolve_socket_path(std::string("/tmp/option.sock"), "/tmp/env.sock"),
-            "/tmp/option.sock");
+  const SocketEnvironment environment("/tmp/env.sock");
+  EXPECT_EQ(resolve_socket_path(std::string("/tmp/option.sock")), "/tmp/option.sock");
 }
 
 TEST(CliArguments, EnvironmentWinsOverDefault) {
-  EXPECT_EQ(resolve_socket_path(std::nullopt, "/tmp/env.sock"), "/tmp/env.sock");
+  const SocketEnvironment environment("/tmp/env.sock");
+  EXPECT_EQ(resolve_socket_path(std::nullopt), "/tmp/env.sock");
 }
 
 TEST(CliArguments, DefaultWhenNeitherIsSet) {
-  EXPECT_EQ(resolve_socket_path(std::nullopt, nullptr), "/run/wheeltecd/wheeltecd.sock");
-  EXPECT_EQ(resolve_socket_path(std::nullopt, ""), "/run/wheeltecd/wheeltecd.sock");
+  {
+    const SocketEnvironment environment(nullptr);
+    EXPECT_EQ(resolve_socket_path(std::nullopt), "/run/wheeltecd/wheeltecd.sock");
+  }
+  const SocketEnvironment environment("");
+  EXPECT_EQ(resolve_socket_path(std::nullopt), "/run/wheeltecd/wheeltecd.sock");
 }
 
 TEST(CliArguments, FiniteNumbers) {

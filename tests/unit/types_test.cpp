@@ -8,8 +8,8 @@ namespace {
 TEST(Types, DialectNames) {
   EXPECT_EQ(to_string(Dialect::manual), "manual");
   EXPECT_EQ(to_string(Dialect::id_0x181), "0x181");
-  EXPECT_EQ(parse_dialect("manual"), Dialect::manual);
-  EXPECT_EQ(parse_dialect("0x181"), Dialect::id_0x181);
+  EXPECT_EQ(parse_enum<Dialect>("manual"), Dialect::manual);
+  EXPECT_EQ(parse_enum<Dialect>("0x181"), Dialect::id_0x181);
 }
 
 TEST(Types, ChassisTypeNames) {
@@ -20,27 +20,34 @@ TEST(Types, ChassisTypeNames) {
   };
   for (const auto& [type, name] : names) {
     EXPECT_EQ(to_string(type), name);
-    EXPECT_EQ(parse_chassis_type(name), type) << name;
+    EXPECT_EQ(parse_enum<ChassisType>(name), type) << name;
   }
 }
 
 TEST(Types, AckermannZNames) {
   EXPECT_EQ(to_string(AckermannZ::yaw_rate), "yaw_rate");
   EXPECT_EQ(to_string(AckermannZ::steering_angle), "steering_angle");
-  EXPECT_EQ(parse_ackermann_z("yaw_rate"), AckermannZ::yaw_rate);
-  EXPECT_EQ(parse_ackermann_z("steering_angle"), AckermannZ::steering_angle);
+  EXPECT_EQ(parse_enum<AckermannZ>("yaw_rate"), AckermannZ::yaw_rate);
+  EXPECT_EQ(parse_enum<AckermannZ>("steering_angle"), AckermannZ::steering_angle);
 }
 
 TEST(Types, ParseRejectsUnknownCaseVariantsAndPadding) {
   for (std::string_view text : {"", "Manual", "MANUAL", "181", "0X181", " manual", "manual "}) {
-    EXPECT_FALSE(parse_dialect(text).has_value()) << '"' << text << '"';
+    EXPECT_FALSE(parse_enum<Dialect>(text).has_value()) << '"' << text << '"';
   }
   for (std::string_view text : {"", "Diff", "four_wd", "4WD", "mecanum ", "differential"}) {
-    EXPECT_FALSE(parse_chassis_type(text).has_value()) << '"' << text << '"';
+    EXPECT_FALSE(parse_enum<ChassisType>(text).has_value()) << '"' << text << '"';
   }
   for (std::string_view text : {"", "yaw-rate", "Yaw_rate", "steering"}) {
-    EXPECT_FALSE(parse_ackermann_z(text).has_value()) << '"' << text << '"';
+    EXPECT_FALSE(parse_enum<AckermannZ>(text).has_value()) << '"' << text << '"';
   }
+}
+
+TEST(Types, NamesListEveryValueInTableOrder) {
+  EXPECT_EQ(enum_names<Dialect>(), (std::vector<std::string>{"manual", "0x181"}));
+  EXPECT_EQ(enum_names<ChassisType>(),
+            (std::vector<std::string>{"diff", "ackermann", "mecanum", "omni", "tank", "4wd"}));
+  EXPECT_EQ(enum_names<AckermannZ>(), (std::vector<std::string>{"yaw_rate", "steering_angle"}));
 }
 
 TEST(Types, OnlyMecanumAndOmniAreHolonomic) {

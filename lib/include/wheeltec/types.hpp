@@ -3,6 +3,10 @@
 #include <chrono>
 #include <optional>
 #include <string_view>
+#include <array>
+#include <span>
+#include <string>
+#include <vector>
 
 namespace wheeltec {
 
@@ -18,12 +22,57 @@ enum class Dialect { manual, id_0x181 };
 enum class ChassisType { diff, ackermann, mecanum, omni, tank, four_wd };
 enum class AckermannZ { yaw_rate, steering_angle };
 
-std::string_view to_string(Dialect dialect);         // "manual", "0x181"
-std::string_view to_string(ChassisType type);        // "diff", ..., "4wd"
-std::string_view to_string(AckermannZ mode);         // "yaw_rate", "steering_angle"
-std::optional<Dialect> parse_dialect(std::string_view text);
-std::optional<ChassisType> parse_chassis_type(std::string_view text);
-std::optional<AckermannZ> parse_ackermann_z(std::string_view text);
+// The one list of each enum's names: config file, command lines, API and logs use it.
+template <typename Enum>
+struct EnumName {
+  Enum value;
+  std::string_view name;
+};
+
+inline constexpr std::array<EnumName<Dialect>, 2> kDialectNames{{
+    {Dialect::manual, "manual"},
+    {Dialect::id_0x181, "0x181"},
+}};
+inline constexpr std::array<EnumName<ChassisType>, 6> kChassisTypeNames{{
+    {ChassisType::diff, "diff"},
+    {ChassisType::ackermann, "ackermann"},
+    {ChassisType::mecanum, "mecanum"},
+    {ChassisType::omni, "omni"},
+    {ChassisType::tank, "tank"},
+    {ChassisType::four_wd, "4wd"},
+}};
+inline constexpr std::array<EnumName<AckermannZ>, 2> kAckermannZNames{{
+    {AckermannZ::yaw_rate, "yaw_rate"},
+    {AckermannZ::steering_angle, "steering_angle"},
+}};
+
+constexpr std::span<const EnumName<Dialect>> name_table(Dialect) { return kDialectNames; }
+constexpr std::span<const EnumName<ChassisType>> name_table(ChassisType) { return kChassisTypeNames; }
+constexpr std::span<const EnumName<AckermannZ>> name_table(AckermannZ) { return kAckermannZNames; }
+
+std::string_view to_string(Dialect dialect);
+std::string_view to_string(ChassisType type);
+std::string_view to_string(AckermannZ mode);
+
+// The value with this exact name (case and spaces count), nullopt for any other text.
+template <typename Enum>
+std::optional<Enum> parse_enum(std::string_view text) {
+  for (const EnumName<Enum>& entry : name_table(Enum{})) {
+    if (entry.name == text) return entry.value;
+  }
+  return std::nullopt;
+}
+
+// All names in table order: the choices of a command-line flag, "one of ..." in errors.
+template <typename Enum>
+std::vector<std::string> enum_names() {
+  std::vector<std::string> names;
+  for (const EnumName<Enum>& entry : name_table(Enum{})) names.emplace_back(entry.name);
+  return names;
+}
+
+// Log levels by name (trace is the most verbose).
+inline constexpr std::array<std::string_view, 5> kLogLevels{"trace", "debug", "info", "warn", "error"};
 
 // Mecanum and omni chassis can move sideways (vy); the others cannot.
 bool is_holonomic(ChassisType type);

@@ -20,10 +20,12 @@ class RpcError : public std::runtime_error {
  public:
   RpcError(const std::string& method, const Json& error);
   int code() const noexcept { return code_; }
+  const std::string& message() const noexcept { return message_; }  // the daemon's words, without method and code
   const Json& data() const noexcept { return data_; }  // e.g. {"phase": "self-test"} with -32006
 
  private:
   int code_;
+  std::string message_;
   Json data_;
 };
 

@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/system/error_code.hpp>
@@ -22,7 +23,10 @@ namespace wheeltec::client {
 // holds control, -32005 not allowed to drive, -32006 chassis not ready, ...).
 const boost::system::error_category& rpc_category() noexcept;
 
-// The daemon's socket: $WHEELTEC_SOCKET, else /run/wheeltecd/wheeltecd.sock.
+inline constexpr std::string_view kDefaultSocketPath = "/run/wheeltecd/wheeltecd.sock";
+inline constexpr std::string_view kSocketEnvironmentVariable = "WHEELTEC_SOCKET";
+
+// The daemon's socket: $WHEELTEC_SOCKET when set and not empty, else kDefaultSocketPath.
 std::string socket_path_from_environment();
 
 class Connection {

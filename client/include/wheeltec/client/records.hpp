@@ -10,7 +10,8 @@
 
 namespace wheeltec::client {
 
-using Json = nlohmann::json;
+// Ordered: objects keep the daemon's key order, so a program can print them as sent.
+using Json = nlohmann::ordered_json;
 
 struct Velocity {
   double vx = 0.0;  // m/s
@@ -46,6 +47,7 @@ struct Telemetry {
   bool battery_low = false;
   Pose2D odom;
   std::optional<Orientation> orientation;  // protocol 2 and later
+  Json json;  // the whole record, for fields not typed here
 };
 
 struct Status {
