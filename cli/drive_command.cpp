@@ -2,6 +2,8 @@
 #include <chrono>
 #include <iostream>
 
+#include "wheeltec/seconds.hpp"
+
 #include "cli_error.hpp"
 #include "commands.hpp"
 #include "daemon_session.hpp"
@@ -21,8 +23,7 @@ int run_drive(const GlobalOptions& options, const wheeltec::Velocity& velocity, 
   daemon.catch_interrupts();
   const Json first_result = daemon.drive(velocity);
   const auto start = Clock::now();
-  const auto end = start + std::chrono::duration_cast<Clock::duration>(
-                               std::chrono::duration<double>(seconds));
+  const auto end = start + wheeltec::from_seconds<Clock::duration>(seconds);
   if (options.json) {
     std::cout << first_result.dump() << std::endl;
   } else {

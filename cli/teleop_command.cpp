@@ -11,6 +11,8 @@
 #include <boost/asio/posix/stream_descriptor.hpp>
 #include <fmt/format.h>
 
+#include "wheeltec/seconds.hpp"
+
 #include "cli_error.hpp"
 #include "commands.hpp"
 #include "daemon_session.hpp"
@@ -124,8 +126,7 @@ int run_teleop(const GlobalOptions& options, double hold_seconds) {
   if (::isatty(STDIN_FILENO) != 1) throw CliError(kExitUsage, "teleop needs a terminal");
   DaemonSession daemon(options.socket_path);
   daemon.catch_interrupts();
-  TeleopSession session(daemon, std::chrono::duration_cast<Clock::duration>(
-                                    std::chrono::duration<double>(hold_seconds)));
+  TeleopSession session(daemon, wheeltec::from_seconds<Clock::duration>(hold_seconds));
   // A duplicate, so that closing it leaves standard input open.
   boost::asio::posix::stream_descriptor keyboard(daemon.io(), ::dup(STDIN_FILENO));
   bool key_waiting = false;

@@ -250,8 +250,8 @@ void CanLink::on_frames(std::span<const asio_can::ReceivedFrame> frames, const b
   if (ec == boost::asio::error::operation_aborted || !socket_.is_open()) return;  // closed since
   const std::uint64_t generation = generation_;
   for (asio_can::ReceivedFrame received : frames) {
-    if (received.time.count() == 0) {
-      received.time = std::chrono::system_clock::now().time_since_epoch();
+    if (received.time == RealtimeNanos{}) {
+      received.time = std::chrono::time_point_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now());
     }
     if (received.frame.error) {
       handle_error_frame(received.frame);

@@ -8,15 +8,15 @@
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/kinematics.hpp"
+#include "wheeltec/seconds.hpp"
 
 namespace wheeltec::daemon {
 
 namespace {
 
 // Seconds from the configuration as a duration; at least 1 ms so that no timer spins.
-std::chrono::nanoseconds seconds_to_duration(double seconds) {
-  if (!std::isfinite(seconds) || seconds < 0.001) seconds = 0.001;
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(seconds));
+std::chrono::nanoseconds timer_interval(double seconds) {
+  return std::max<std::chrono::nanoseconds>(from_seconds<std::chrono::nanoseconds>(seconds), std::chrono::milliseconds(1));
 }
 
 bool same_velocity(const ControlCommand& a, const ControlCommand& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
@@ -24,7 +24,7 @@ bool same_velocity(const ControlCommand& a, const ControlCommand& b) { return a.
 }  // namespace
 
 ControlLoop::ControlLoop(const ControlPorts& ports, const GatewayConfig& config)
-    : ports_(ports), config_(config), arbiter_(seconds_to_duration(config.control.command_timeout_s)) {
+    : ports_(ports), config_(config), arbiter_(timer_interval(config.control.command_timeout_s)) {
   ports_.period_timer.on_tick([this] { on_period(); });
 }
 
@@ -201,7 +201,7 @@ void ControlLoop::apply(const GatewayConfig& config) {
     const bool period_changed = config.control.rate_hz != config_.control.rate_hz;
     const bool refresh_changed = config.control.enable_refresh_s != config_.control.enable_refresh_s;
     config_ = config;
-    arbiter_.set_command_timeout(seconds_to_duration(config_.control.command_timeout_s));
+    arbiter_.set_command_timeout(timer_interval(config_.control.command_timeout_s));
     // New limits or Z mode apply to the current target at once.
     if (update_command() && enabled_) send_control();
     if (enabled_ && period_changed) start_periodic();
@@ -209,7 +209,7 @@ void ControlLoop::apply(const GatewayConfig& config) {
   });
 }
 
-void ControlLoop::start_periodic() { ports_.period_timer.start(seconds_to_duration(1.0 / config_.control.rate_hz)); }
+void ControlLoop::start_periodic() { ports_.period_timer.start(timer_interval(1.0 / config_.control.rate_hz)); }
 
 void ControlLoop::on_period() {
   if (!enabled_ || shut_down_) return;
@@ -229,7 +229,7 @@ void ControlLoop::start_enable_refresh() {
     ports_.enable_timer.cancel();
     return;
   }
-  enable_refresh_ = seconds_to_duration(config_.control.enable_refresh_s);
+  enable_refresh_ = timer_interval(config_.control.enable_refresh_s);
   next_enable_ = ports_.clock.now() + enable_refresh_;
   arm_enable_timer();
 }

@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/rpc.hpp"
+#include "wheeltec/seconds.hpp"
 #include "wheeltec/telemetry_json.hpp"
 #include "wheeltec/version.hpp"
 
@@ -21,10 +22,6 @@
 namespace wheeltec::daemon {
 namespace {
 
-std::chrono::nanoseconds seconds_to_nanos(double seconds) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(seconds));
-}
-
 }  // namespace
 
 Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig config, AccessConfig access)
@@ -33,7 +30,7 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
       config_(std::move(config)),
       started_(std::chrono::steady_clock::now()),
       link_(io, config_.can.interface),
-      chassis_(io, seconds_to_nanos(config_.telemetry.timeout_s), config_.telemetry.low_battery_v),
+      chassis_(io, from_seconds<std::chrono::nanoseconds>(config_.telemetry.timeout_s), config_.telemetry.low_battery_v),
       dock_(io),
       control_io_(io, link_, config_.control.rate_hz),
       control_(control_io_.ports(), config_),
@@ -45,7 +42,7 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
 
 void Gateway::start() {
   link_.on_frame([this](const asio_can::ReceivedFrame& received) {
-    if (!dock_.feed(received.frame)) chassis_.feed(received.frame, RealtimeNanos(received.time));
+    if (!dock_.feed(received.frame)) chassis_.feed(received.frame, received.time);
   });
   link_.on_batch_handled([this] { api_.flush_telemetry(); });
   link_.on_state([this](BusState state) { on_bus_state(state); });
@@ -252,7 +249,7 @@ void Gateway::reload() {
   config_ = std::move(fresh);
   set_log_level(config_.log.level);
   control_.apply(config_);
-  chassis_.set_timeout(seconds_to_nanos(config_.telemetry.timeout_s));
+  chassis_.set_timeout(from_seconds<std::chrono::nanoseconds>(config_.telemetry.timeout_s));
   chassis_.set_low_battery_v(config_.telemetry.low_battery_v);
   api_.set_policy(std::move(access->control_policy));
   api_.set_max_clients(config_.api.max_clients);

@@ -82,7 +82,7 @@ std::optional<CanEndpoint::Stamped> CanEndpoint::receive_stamped(int timeout_ms)
   ::clock_gettime(CLOCK_REALTIME, &real);
   const double monotonic_now = now_us();
   const double real_now = static_cast<double>(real.tv_sec) * 1e6 + static_cast<double>(real.tv_nsec) / 1e3;
-  const double kernel_real = std::chrono::duration<double, std::micro>(received->time).count();
+  const double kernel_real = std::chrono::duration<double, std::micro>(received->time.time_since_epoch()).count();
   Stamped stamped;
   stamped.frame = received->frame;
   stamped.kernel_us = monotonic_now - (real_now - kernel_real);

@@ -182,8 +182,8 @@ class DaemonPath final : public GatewayUnderTest {
  private:
   void on_frames(std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
     for (const asio_can::ReceivedFrame& received : frames) {
-      chassis_.feed(received.frame, received.time.count() != 0 ? RealtimeNanos(received.time)
-                                                               : RealtimeNanos(std::chrono::system_clock::now()));
+      chassis_.feed(received.frame, received.time != RealtimeNanos{} ? received.time
+                                                                     : RealtimeNanos(std::chrono::system_clock::now()));
     }
     api_.flush_telemetry();  // as Gateway does after each batch (CanLink::on_batch_handled)
     if (!ec) reader_.start();

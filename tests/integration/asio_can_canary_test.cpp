@@ -68,7 +68,7 @@ TEST_F(AsioCanCanary, ReceivesFramesWithKernelTimestamps) {
   auto received = receive(1s);
   ASSERT_TRUE(received.has_value()) << "no frame arrived within 1 s";
   EXPECT_EQ(received->frame, make_frame(0x101, {0x7B, 0x00, 0x01, 0x01, 0x00, 0x01, 0x00, 0x00}));
-  const auto stamp = WallClock::time_point(std::chrono::duration_cast<WallClock::duration>(received->time));
+  const auto stamp = std::chrono::time_point_cast<WallClock::duration>(received->time);
   EXPECT_GE(stamp, before - 1ms);
   EXPECT_LE(stamp, WallClock::now() + 1ms);
 }

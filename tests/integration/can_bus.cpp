@@ -66,8 +66,8 @@ std::optional<ObservedFrame> CanBus::receive(std::chrono::milliseconds timeout) 
   const auto received = wheeltec::asio_can::receive_frame(fd_, error);
   if (!received) throw std::runtime_error("CanBus: recvmsg: " + error.message());
   ObservedFrame observed{received->frame, WallClock::now()};
-  if (received->time.count() != 0) {
-    observed.time = WallClock::time_point(std::chrono::duration_cast<WallClock::duration>(received->time));
+  if (received->time != wheeltec::RealtimeNanos{}) {
+    observed.time = std::chrono::time_point_cast<WallClock::duration>(received->time);
   }
   return observed;
 }

@@ -1,11 +1,10 @@
 #pragma once
 
-#include <chrono>
-#include <optional>
-#include <string_view>
 #include <array>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace wheeltec {

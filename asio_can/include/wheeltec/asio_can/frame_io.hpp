@@ -18,6 +18,7 @@
 
 #include "wheeltec/asio_can/raw_protocol.hpp"
 #include "wheeltec/can_frame.hpp"
+#include "wheeltec/clocks.hpp"
 
 namespace wheeltec::asio_can {
 
@@ -46,7 +47,7 @@ inline can_frame to_socketcan(const CanFrame& in) noexcept {
 
 struct ReceivedFrame {
   CanFrame frame;
-  std::chrono::nanoseconds time{};  // kernel receive time (CLOCK_REALTIME); 0 without SO_TIMESTAMPNS
+  RealtimeNanos time{};  // kernel receive time; the epoch without SO_TIMESTAMPNS
 };
 
 // Reads one frame without blocking from the raw CAN socket `fd`. Empty with ec = would_block
@@ -78,7 +79,7 @@ inline std::optional<ReceivedFrame> receive_frame(int fd, boost::system::error_c
     if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_TIMESTAMPNS) {
       timespec ts;
       std::memcpy(&ts, CMSG_DATA(c), sizeof(ts));
-      out.time = std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
+      out.time = RealtimeNanos(std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec));
     }
   }
   return out;
