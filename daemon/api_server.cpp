@@ -98,14 +98,14 @@ bool ApiServer::has_status_subscribers() const {
   return false;
 }
 
-void ApiServer::publish_telemetry(const TelemetrySample& sample) {
+void ApiServer::queue_telemetry(const TelemetrySample& sample) {
   if (!has_telemetry_subscribers()) return;
   auto notification = std::make_shared<std::string>();
   notification->reserve(kTelemetryNotificationReserve);
   append_telemetry_notification(*notification, sample);
   const SharedText shared = std::move(notification);
   for (const auto& [id, session] : sessions_) {
-    if (session->state().wants_telemetry) session->send_telemetry(shared);
+    if (session->state().wants_telemetry) session->queue_telemetry(shared);
   }
 }
 

@@ -47,7 +47,7 @@ class ApiServer {
   // Queues the record's telemetry notification (built once, shared) for every subscriber;
   // flush_telemetry() sends what was queued (once per batch of CAN frames: one send per
   // subscriber for the batch).
-  void publish_telemetry(const TelemetrySample& sample);
+  void queue_telemetry(const TelemetrySample& sample);
   void flush_telemetry();
   void publish_status(const SharedText& notification);
 
