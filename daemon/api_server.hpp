@@ -59,7 +59,7 @@ class ApiServer {
   bool has_telemetry_subscribers() const;
   void accept();
   void on_accept(const boost::system::error_code& error, boost::asio::local::stream_protocol::socket socket);
-  void refuse(boost::asio::local::stream_protocol::socket socket);
+  void refuse_client(boost::asio::local::stream_protocol::socket socket);
   void client_gone(ClientId id);
 
   boost::asio::io_context& io_;

@@ -59,10 +59,9 @@ void SessionWriter::write() {
   queue_.write_started(write_buffers_.size());
   // async_write_some, not async_write: async_write hands the socket at most 16 buffers per
   // send. on_write() takes a partial write as it comes and writes the rest.
-  socket_.async_write_some(write_buffers_, [this, hold = owner_.keep_alive()](const boost::system::error_code& error,
-                                                                              std::size_t bytes) {
-    on_write(error, bytes);
-  });
+  socket_.async_write_some(write_buffers_,
+                           [this, hold = owner_.keep_alive()](const boost::system::error_code& error,
+                                                              std::size_t bytes) { on_write(error, bytes); });
 }
 
 void SessionWriter::stop() {
