@@ -98,14 +98,14 @@ bool ApiServer::has_status_subscribers() const {
   return false;
 }
 
-void ApiServer::publish_telemetry(const TelemetrySample& sample) {
+void ApiServer::queue_telemetry(const TelemetrySample& sample) {
   if (!has_telemetry_subscribers()) return;
   auto notification = std::make_shared<std::string>();
   notification->reserve(kTelemetryNotificationReserve);
   append_telemetry_notification(*notification, sample);
   const SharedText shared = std::move(notification);
   for (const auto& [id, session] : sessions_) {
-    if (session->state().wants_telemetry) session->send_telemetry(shared);
+    if (session->state().wants_telemetry) session->queue_telemetry(shared);
   }
 }
 
@@ -142,7 +142,7 @@ void ApiServer::on_accept(const boost::system::error_code& error, stream_protoco
   }
 
   if (counters_.clients >= static_cast<std::uint64_t>(max_clients_)) {
-    refuse(std::move(socket));
+    refuse_client(std::move(socket));
     accept();
     return;
   }
@@ -169,7 +169,7 @@ void ApiServer::on_accept(const boost::system::error_code& error, stream_protoco
 }
 
 // The refused client gets its error line and the end of the stream like any closing client.
-void ApiServer::refuse(stream_protocol::socket socket) {
+void ApiServer::refuse_client(stream_protocol::socket socket) {
   ++counters_.clients_refused;
   spdlog::warn("API: refused a client: too many clients (max {})", max_clients_);
   auto line = std::make_shared<const std::string>(

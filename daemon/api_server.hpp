@@ -47,7 +47,7 @@ class ApiServer {
   // Queues the record's telemetry notification (built once, shared) for every subscriber;
   // flush_telemetry() sends what was queued (once per batch of CAN frames: one send per
   // subscriber for the batch).
-  void publish_telemetry(const TelemetrySample& sample);
+  void queue_telemetry(const TelemetrySample& sample);
   void flush_telemetry();
   void publish_status(const SharedText& notification);
 
@@ -59,7 +59,7 @@ class ApiServer {
   bool has_telemetry_subscribers() const;
   void accept();
   void on_accept(const boost::system::error_code& error, boost::asio::local::stream_protocol::socket socket);
-  void refuse(boost::asio::local::stream_protocol::socket socket);
+  void refuse_client(boost::asio::local::stream_protocol::socket socket);
   void client_gone(ClientId id);
 
   boost::asio::io_context& io_;

@@ -1,9 +1,9 @@
 #pragma once
 
 // One API connection: reads request lines (LineFramer), hands them to the RpcHandler, and
-// writes the responses and notifications queued for the client (OutboundQueue, which
-// bounds them and drops telemetry for a lagging client). A slow or hostile client costs
-// the daemon and other clients no more than a bounded amount of memory and time:
+// has the responses and notifications written by a SessionWriter (which bounds them, drops
+// telemetry for a lagging client and reports a client too slow). A slow or hostile client
+// costs the daemon and other clients no more than a bounded amount of memory and time:
 //
 //  - While the client lags (its backlog is above the queue's soft limit), its requests
 //    are not read: a client that never reads cannot make the daemon queue unbounded
@@ -17,17 +17,12 @@
 //    connection is closed.
 
 #include <array>
-#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <memory>
-#include <optional>
 #include <string_view>
-#include <vector>
 
-#include <boost/asio/buffer.hpp>
 #include <boost/asio/local/stream_protocol.hpp>
-#include <boost/asio/steady_timer.hpp>
 
 #include "wheeltec/line_framer.hpp"
 #include "wheeltec/outbound_queue.hpp"
@@ -35,14 +30,14 @@
 #include "api_counters.hpp"
 #include "client_state.hpp"
 #include "rpc_handler.hpp"
+#include "session_writer.hpp"
 
 namespace wheeltec::daemon {
 
-inline constexpr std::chrono::seconds kSlowTimeout{5};
 inline constexpr std::size_t kLinesPerTurn = 32;
 inline constexpr std::size_t kReadChunkBytes = 16 * 1024;
 
-class ClientSession : public std::enable_shared_from_this<ClientSession> {
+class ClientSession : public std::enable_shared_from_this<ClientSession>, private SessionWriter::Owner {
  public:
   using Socket = boost::asio::local::stream_protocol::socket;
   // Called once when the client is gone (end of input, error, disconnect by the daemon);
@@ -57,7 +52,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   void send_status(SharedText notification);
   // A telemetry notification (shared by all subscribers); queued until flush(), and
   // coalesced when the client lags.
-  void send_telemetry(SharedText notification);
+  void queue_telemetry(SharedText notification);
   // Writes what is queued. Called once per batch of CAN frames, so that the records of one
   // batch go to the client in one send; also after each turn of requests and for a message
   // written at once.
@@ -83,8 +78,8 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   enum class Close { now, lingering };
 
   bool takes_notifications() const { return phase_ == Phase::open || phase_ == Phase::ending; }
-  void pump();
-  void post_pump();
+  void advance_input();
+  void post_advance_input();
   void start_read();
   void on_read(const boost::system::error_code& error, std::size_t bytes);
   // Handles the complete buffered lines, at most kLinesPerTurn of them.
@@ -92,15 +87,13 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   void handle_line(std::string_view line);
   void refuse_long_line();
 
-  void queue(SharedText text, OutboundQueue::Kind kind);
-  void start_write();
-  void gather_write_buffers();
-  void write_failed(const boost::system::error_code& error);
-  void on_write(const boost::system::error_code& error, std::size_t bytes);
+  void queue_reply(std::string reply);
   void output_progressed(Resume resume);
-  void watch_lag();
-  void on_slow_timer(const boost::system::error_code& error);
-  void disconnect_slow(std::string_view why);
+
+  // SessionWriter::Owner
+  std::shared_ptr<void> keep_alive() override { return shared_from_this(); }
+  void output_written() override { output_progressed(Resume::at_once); }
+  void output_failed(Failure failure) override;
 
   // The one way out of open.
   void end(Ending ending);
@@ -116,12 +109,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   Input input_ = Input::idle;
   std::array<char, kReadChunkBytes> read_chunk_{};
   LineFramer framer_;
-
-  OutboundQueue queue_;
-  bool direct_writes_ = false;  // the socket is non-blocking: start_write() can write at once
-  std::vector<boost::asio::const_buffer> write_buffers_;
-  std::optional<std::chrono::steady_clock::time_point> lagging_since_;
-  boost::asio::steady_timer slow_timer_;
+  SessionWriter writer_;
 };
 
 }  // namespace wheeltec::daemon

@@ -82,7 +82,7 @@ void Gateway::on_bus_state(BusState state) {
 }
 
 void Gateway::on_sample(const TelemetrySample& sample) {
-  api_.publish_telemetry(sample);
+  api_.queue_telemetry(sample);
   check_command_response(sample);
   status_may_have_changed();
 }

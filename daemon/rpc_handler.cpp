@@ -75,8 +75,8 @@ std::optional<std::string> RpcHandler::handle_line(ClientState& client, std::str
 RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request& request) {
   const std::string& method = request.method;
   if (method == "drive") return drive(client, request);
-  if (method == "subscribe") return subscribe(client, request, true);
-  if (method == "unsubscribe") return subscribe(client, request, false);
+  if (method == "subscribe") return set_subscriptions(client, request, true);
+  if (method == "unsubscribe") return set_subscriptions(client, request, false);
 
   const bool known = method == "version" || method == "status" || method == "telemetry" || method == "stop" ||
                      method == "enable" || method == "disable" || method == "reset_odometry" || method == "stats";
@@ -95,7 +95,7 @@ RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request
     chassis_.reset_odometry();
     return json::object();
   }
-  if (auto error = require_control_permission(client, request)) return *std::move(error);
+  if (auto error = control_permission_error(client, request)) return *std::move(error);
   if (method == "enable") {
     control_.enable();
   } else {
@@ -105,7 +105,7 @@ RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request
 }
 
 RpcHandler::Outcome RpcHandler::drive(ClientState& client, const rpc::Request& request) {
-  if (auto error = require_control_permission(client, request)) return *std::move(error);
+  if (auto error = control_permission_error(client, request)) return *std::move(error);
   auto params = rpc::parse_drive_params(request, chassis_type_);
   if (auto* error = std::get_if<rpc::Error>(&params)) return std::move(*error);
   if (const auto phase = chassis_.phase(); phase && !obeys_commands(*phase)) {
@@ -131,18 +131,18 @@ RpcHandler::Outcome RpcHandler::drive(ClientState& client, const rpc::Request& r
   return rpc::Error{rpc::kInternalError, "unexpected drive outcome", request.id};
 }
 
-RpcHandler::Outcome RpcHandler::subscribe(ClientState& client, const rpc::Request& request, bool subscribe) {
+RpcHandler::Outcome RpcHandler::set_subscriptions(ClientState& client, const rpc::Request& request, bool wanted) {
   auto topics = rpc::parse_topics(request);
   if (auto* error = std::get_if<rpc::Error>(&topics)) return std::move(*error);
   for (const std::string& topic : std::get<std::vector<std::string>>(topics)) {
-    if (topic == rpc::kTopicTelemetry) client.wants_telemetry = subscribe;
-    if (topic == rpc::kTopicStatus) client.wants_status = subscribe;
+    if (topic == rpc::kTopicTelemetry) client.wants_telemetry = wanted;
+    if (topic == rpc::kTopicStatus) client.wants_status = wanted;
   }
   return json{{"topics", topics_of(client)}};
 }
 
-std::optional<rpc::Error> RpcHandler::require_control_permission(const ClientState& client,
-                                                                 const rpc::Request& request) const {
+std::optional<rpc::Error> RpcHandler::control_permission_error(const ClientState& client,
+                                                               const rpc::Request& request) const {
   if (!client.control_refusal) return std::nullopt;
   return rpc::Error{rpc::kNotPermitted, *client.control_refusal, request.id};
 }

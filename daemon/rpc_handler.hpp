@@ -35,8 +35,8 @@ class RpcHandler {
 
   Outcome dispatch(ClientState& client, const rpc::Request& request);
   Outcome drive(ClientState& client, const rpc::Request& request);
-  Outcome subscribe(ClientState& client, const rpc::Request& request, bool subscribe);
-  std::optional<rpc::Error> require_control_permission(const ClientState& client, const rpc::Request& request) const;
+  Outcome set_subscriptions(ClientState& client, const rpc::Request& request, bool wanted);
+  std::optional<rpc::Error> control_permission_error(const ClientState& client, const rpc::Request& request) const;
   std::string telemetry_response(const rpc::Request& request) const;
 
   ControlLoop& control_;

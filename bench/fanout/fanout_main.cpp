@@ -153,7 +153,7 @@ class DaemonPath final : public GatewayUnderTest {
     ::setsockopt(frame_socket, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on));
     frames_.assign(asio_can::raw_protocol{}, frame_socket);
     frames_.non_blocking(true);
-    chassis_.on_sample([this](const TelemetrySample& sample) { api_.publish_telemetry(sample); });
+    chassis_.on_sample([this](const TelemetrySample& sample) { api_.queue_telemetry(sample); });
     api_.start();
     reader_.start();
     thread_ = std::thread([this] { io_.run(); });
