@@ -109,7 +109,7 @@ void ApiServer::queue_telemetry(const TelemetrySample& sample) {
   }
 }
 
-void ApiServer::flush_telemetry() {
+void ApiServer::send_queued() {
   for (const auto& [id, session] : sessions_) session->flush();
 }
 

@@ -45,10 +45,10 @@ class ApiServer {
 
   bool has_status_subscribers() const;
   // Queues the record's telemetry notification (built once, shared) for every subscriber;
-  // flush_telemetry() sends what was queued (once per batch of CAN frames: one send per
+  // send_queued() sends what was queued (once per batch of CAN frames: one send per
   // subscriber for the batch).
   void queue_telemetry(const TelemetrySample& sample);
-  void flush_telemetry();
+  void send_queued();
   void publish_status(const SharedText& notification);
 
   // Run-time changes (SIGHUP); they apply to clients that connect from now on.

@@ -44,7 +44,7 @@ void Gateway::start() {
   link_.on_frame([this](const asio_can::ReceivedFrame& received) {
     if (!dock_.feed(received.frame)) chassis_.feed(received.frame, received.time);
   });
-  link_.on_batch_handled([this] { api_.flush_telemetry(); });
+  link_.on_batch_handled([this] { api_.send_queued(); });
   link_.on_state([this](BusState state) { on_bus_state(state); });
   chassis_.on_sample([this](const TelemetrySample& sample) { on_sample(sample); });
   chassis_.on_online([this](bool online) { on_online(online); });

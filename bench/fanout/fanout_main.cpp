@@ -185,7 +185,7 @@ class DaemonPath final : public GatewayUnderTest {
       chassis_.feed(received.frame, received.time != RealtimeNanos{} ? received.time
                                                                      : RealtimeNanos(std::chrono::system_clock::now()));
     }
-    api_.flush_telemetry();  // as Gateway does after each batch (CanLink::on_batch_handled)
+    api_.send_queued();  // as Gateway does after each batch (CanLink::on_batch_handled)
     if (!ec) reader_.start();
   }
 
