@@ -81,15 +81,7 @@ int run(int argc, char** argv) {
                   .description(""))
       ->type_name("SECONDS");
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    if (error.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) {
-      return app.exit(error);
-    }
-    std::cerr << "wheeltecctl: " << error.what() << "\nRun with --help for more information.\n";
-    return kExitUsage;
-  }
+  if (const std::optional<int> exit_code = wheeltec::command_line::parse(app, argc, argv)) return *exit_code;
 
   GlobalOptions options;
   options.socket_path = resolve_socket_path(

@@ -84,14 +84,7 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
       ->check(CLI::IsMember(log_levels).description(""));
   app.add_flag("--check-config", options.check_config, "Validate the merged configuration, print it as JSON and exit");
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::Success& success) {  // --help, --version
-    return app.exit(success);
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "wheeltecd: " << error.what() << " (see --help)\n";
-    return 2;
-  }
+  if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
   return options;
 }
 

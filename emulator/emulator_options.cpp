@@ -149,14 +149,7 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
       ->type_name("FILE");
   app.allow_config_extras(false);  // a misspelt key is an error, not silently ignored
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::Success& e) {  // --help, --version
-    return EarlyExit{app.exit(e)};
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "wheeltec-emu: " << e.what() << " (see --help)\n";
-    return EarlyExit{2};
-  }
+  if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return EarlyExit{*exit_code};
   if (list_models) {
     for (const RobotModel& model : robot_models()) std::cout << describe(model) << '\n';
     return EarlyExit{0};

@@ -1,10 +1,13 @@
 #pragma once
 
 // What the command lines of wheeltecd, wheeltecctl and wheeltec-emu share (CLI11,
-// header-only; each program links CLI11): the --version flag and number checks.
+// header-only; each program links CLI11): parsing with one-line usage errors, the
+// --version flag and number checks.
 
 #include <cmath>
+#include <iostream>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -17,6 +20,20 @@ namespace wheeltec::command_line {
 // through CLI::App::exit.
 inline void add_version_flag(CLI::App& app) {
   app.set_version_flag("--version", app.get_name() + " " + kVersion, "Print the version and exit");
+}
+
+// Parses the command line. Empty when the program goes on; else the exit code: 0 after
+// --help or --version, 2 after a usage error, which is one line on stderr.
+inline std::optional<int> parse(CLI::App& app, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& done) {
+    return app.exit(done);
+  } catch (const CLI::ParseError& error) {
+    std::cerr << app.get_name() << ": " << error.what() << " (see --help)\n";
+    return 2;
+  }
+  return std::nullopt;
 }
 
 enum class LowBound { inclusive, exclusive };
