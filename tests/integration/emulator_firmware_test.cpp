@@ -119,8 +119,9 @@ TEST(EmulatorFirmware, TiltRotatesGravityInTheAccelerometer) {
   CanBus bus(test_interface());
   gateway.start_emulator();
   // 0x102 carries record bytes 8-15: accel x, y, z, then gyro x.
+  // 2 s at 20 Hz: at least 10 records even when the emulator is slow to start (UBSan).
   const std::vector<ObservedFrame> middles =
-      bus.collect([](const CanFrame& frame) { return is_standard(frame, 0x102); }, 1000ms);
+      bus.collect([](const CanFrame& frame) { return is_standard(frame, 0x102); }, 2000ms);
   ASSERT_GT(middles.size(), 10u) << gateway.logs();
   double ax = 0.0, ay = 0.0, az = 0.0;
   for (const ObservedFrame& middle : middles) {

@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <regex>
 #include <sstream>
+#include <thread>
 
 #include <wheeltec/version.hpp>
 
@@ -151,7 +153,22 @@ TEST_F(Wheeltecctl, StopReleasesAnotherClientsControl) {
 TEST_F(Wheeltecctl, DaemonErrorExits1) {
   auto owner = gateway().connect();
   owner.call("drive", {{"vx", 0.2}});
+  // The owner keeps its command fresh (the deadman is 0.5 s), however long wheeltecctl
+  // takes to start (under UBSan in User-Mode Linux it took longer than that).
+  std::atomic<bool> ctl_done{false};
+  std::thread keep_driving([&] {
+    try {
+      while (!ctl_done) {
+        owner.call("drive", {{"vx", 0.2}});
+        std::this_thread::sleep_for(100ms);
+      }
+    } catch (const std::exception& error) {
+      ADD_FAILURE() << "the owner could not keep driving: " << error.what();
+    }
+  });
   const auto run = ctl({"drive", "0.1", "0", "--for", "0.3"});
+  ctl_done = true;
+  keep_driving.join();
   EXPECT_TRUE(run.status.exited_with(1)) << "drive while another client holds control\n" << run.describe();
   EXPECT_FALSE(run.err.empty()) << run.describe();
   owner.call("stop");
