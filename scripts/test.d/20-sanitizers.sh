@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
-# Test stage: the unit and integration tests again under sanitizers.
-#   1. AddressSanitizer + LeakSanitizer + UndefinedBehaviorSanitizer build: the unit tests
-#      and the integration suites that need no CAN interface, run natively.
-#   2. UndefinedBehaviorSanitizer build: every vcan integration suite (ctest -L vcan),
-#      which scripts/vcan-run runs inside User-Mode Linux on a kernel without SocketCAN.
-#      ASan and LSan cannot run there: their shadow memory and allocator need address
-#      ranges that UML's processes do not have (the runtime aborts at start-up);
-#      25-memcheck.sh runs those suites with the programs under valgrind instead. Where
-#      vcan-run runs natively, the ASan build runs the vcan suites as well.
-# Any sanitizer report fails the stage: reports make the process fail (halt_on_error,
-# abort_on_error), and UBSan reports are also written to files that are checked at the end.
-#   SANITIZER_BUILD_DIR  prefix of the two build directories (default $BUILD_DIR-sanitizers)
+# Test stage: the unit and integration tests again under sanitizers, in one build:
+#   - where scripts/vcan-run runs natively (a host with the vcan module): AddressSanitizer
+#     + LeakSanitizer + UndefinedBehaviorSanitizer;
+#   - inside User-Mode Linux (a kernel without SocketCAN): UndefinedBehaviorSanitizer
+#     only. ASan and LSan cannot run there: their shadow memory and allocator need address
+#     ranges that UML's processes do not have (the runtime aborts at start-up). The
+#     programs' memory is checked there by 25-memcheck.sh (valgrind), and the pure
+#     library's parsers by the fuzz stage (30-fuzz.sh, ASan + UBSan).
+# The build runs the unit tests, the integration suites that need no CAN interface and
+# every vcan suite (ctest -L vcan). Any sanitizer report fails the stage: reports make the
+# process fail (halt_on_error, abort_on_error), and UBSan reports are also written to files
+# that are checked at the end.
+#   SANITIZER_BUILD_DIR  the build directory (default $BUILD_DIR-sanitizers)
 set -euo pipefail
 
 REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
@@ -34,29 +35,21 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:log_path=$reports/ubsan
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
 
 failed=0
-asan=$prefix/asan-ubsan
-echo "sanitizers: AddressSanitizer + UndefinedBehaviorSanitizer build in $asan"
-configure_and_build_with "$asan" "-fsanitize=address,undefined" unit_tests
-echo "sanitizers: unit tests (ASan, LSan, UBSan)"
-"$asan/tests/unit/unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-cmake --build "$asan" -j "$jobs" --target integration_tests
-echo "sanitizers: command-line integration tests (ASan, LSan, UBSan)"
-"$asan/tests/integration/integration_tests" --gtest_filter='CommandLine.*' --gtest_color=no --gtest_brief=1 || failed=1
-
-# Where scripts/vcan-run runs natively (a host with the vcan module), ASan and LSan work
-# for the vcan suites too.
+build=$prefix
 if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
-  echo "sanitizers: vcan integration tests natively (ASan, LSan, UBSan)"
-  (cd "$asan" && ctest -L vcan -LE soak --output-on-failure) || failed=1
+  sanitizers="address,undefined" names="ASan, LSan, UBSan"
 else
-  echo "sanitizers: vcan0 is in User-Mode Linux here: the vcan suites run under UBSan only (and memcheck, 25-memcheck.sh)"
+  sanitizers="undefined" names="UBSan; vcan0 is in User-Mode Linux here"
 fi
-
-ubsan=$prefix/ubsan
-echo "sanitizers: UndefinedBehaviorSanitizer build in $ubsan"
-configure_and_build_with "$ubsan" "-fsanitize=undefined" integration_tests
-echo "sanitizers: vcan integration tests (UBSan)"
-(cd "$ubsan" && ctest -L vcan -LE soak --output-on-failure) || failed=1
+echo "sanitizers: -fsanitize=$sanitizers build in $build"
+configure_and_build_with "$build" "-fsanitize=$sanitizers" unit_tests integration_tests
+echo "sanitizers: unit tests ($names)"
+"$build/tests/unit/unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
+echo "sanitizers: command-line integration tests ($names)"
+"$build/tests/integration/integration_tests" --gtest_filter='CommandLine.*:EmulatorCommandLine.*' --gtest_color=no \
+  --gtest_brief=1 || failed=1
+echo "sanitizers: vcan integration tests ($names)"
+(cd "$build" && ctest -L vcan -LE soak --output-on-failure) || failed=1
 
 if compgen -G "$reports/ubsan*" >/dev/null; then
   echo "sanitizers: UndefinedBehaviorSanitizer reports:" >&2
