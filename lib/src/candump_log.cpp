@@ -46,7 +46,10 @@ std::optional<RealtimeNanos> parse_timestamp(std::string_view field) {
   const std::string_view fraction = field.substr(dot + 1);
   const std::optional<std::uint64_t> seconds = parse_number(field.substr(0, dot), 10);
   const std::optional<std::uint64_t> fraction_value = parse_number(fraction, 10);
-  if (!seconds || !fraction_value || fraction.size() > 9 || *seconds > 1'000'000'000'000ULL) return std::nullopt;
+  // Nanoseconds since the epoch in 64 bits reach the year 2262: 9e9 s (2255) is the last
+  // whole-second bound that leaves room for the fraction.
+  constexpr std::uint64_t kMaxSeconds = 9'000'000'000ULL;
+  if (!seconds || !fraction_value || fraction.size() > 9 || *seconds > kMaxSeconds) return std::nullopt;
   std::uint64_t nanos = *fraction_value;
   for (std::size_t digits = fraction.size(); digits < 9; ++digits) nanos *= 10;
   return RealtimeNanos(std::chrono::seconds(*seconds) + std::chrono::nanoseconds(nanos));

@@ -80,6 +80,12 @@ TEST(CandumpLogTest, NamesTheFirstMalformedLine) {
   }
 }
 
+TEST(CandumpLogTest, ATimeBeyondWhatNanosecondsCanHoldIsMalformed) {
+  // Found by fuzz_candump_log: 170000000000 s overflowed the nanosecond count.
+  EXPECT_EQ(error_of("(170000000000.000200) vcan0 124#R8\n").line, 1u);
+  EXPECT_EQ(parsed("(9000000000.999999) vcan0 101#01\n").frames.size(), 1u);
+}
+
 TEST(CandumpLogTest, EmptyTextIsAnEmptyLog) {
   EXPECT_TRUE(parsed("").frames.empty());
   EXPECT_TRUE(parsed("\n\n").frames.empty());
