@@ -11,7 +11,9 @@ source "$REPO_ROOT/scripts/lib/setup.sh"
 
 install_dependencies tests
 configure_and_build
+echo "== build done in $SECONDS s"
 (cd "$BUILD_DIR" && ctest --output-on-failure "$@")
+echo "== ctest done in $SECONDS s"
 
 # Further stages that need builds of their own (sanitizers, fuzzing, packaging, cross
 # builds): each is a script in scripts/test.d/, run in name order with BUILD_DIR set.
@@ -20,7 +22,9 @@ passed=0 failed=0
 for stage in "$REPO_ROOT"/scripts/test.d/*.sh; do
   [[ -e $stage ]] || continue
   echo "== stage $(basename "$stage")"
-  if bash "$stage"; then passed=$((passed + 1)); else failed=$((failed + 1)); echo "== stage $(basename "$stage") FAILED"; fi
+  started=$SECONDS
+  if bash "$stage"; then result=passed passed=$((passed + 1)); else result=FAILED failed=$((failed + 1)); fi
+  echo "== stage $(basename "$stage") $result in $((SECONDS - started)) s"
 done
 if ((passed + failed > 0)); then
   echo "stages: $passed passed, $failed failed"

@@ -34,4 +34,8 @@ done
 
 export QEMU_LD_PREFIX=/usr/aarch64-linux-gnu
 qemu-aarch64 "$arm_build/daemon/wheeltecd" --version
-(cd "$arm_build/tests/unit" && qemu-aarch64 ./unit_tests --gtest_color=no --gtest_brief=1)
+# Under qemu-user a process that changes its credentials (setgroups, setgid, setuid, even
+# as raw system calls) never returns, so the test that connects as another user runs
+# natively only (in ctest). The timeout makes any other hang fail this stage, not the run.
+(cd "$arm_build/tests/unit" && timeout --signal=KILL 900 qemu-aarch64 ./unit_tests --gtest_color=no --gtest_brief=1 \
+  --gtest_filter=-PeerCredentials.SupplementaryGroupsComeFromTheKernelAsAtConnect)
