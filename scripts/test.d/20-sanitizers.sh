@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
-# Test stage: the unit and integration tests again under sanitizers, in one build:
-#   - where scripts/vcan-run runs natively (a host with the vcan module): AddressSanitizer
-#     + LeakSanitizer + UndefinedBehaviorSanitizer;
-#   - inside User-Mode Linux (a kernel without SocketCAN): UndefinedBehaviorSanitizer
-#     only. ASan and LSan cannot run there: their shadow memory and allocator need address
-#     ranges that UML's processes do not have (the runtime aborts at start-up). The
-#     programs' memory is checked there by 25-memcheck.sh (valgrind), and the pure
-#     library's parsers by the fuzz stage (30-fuzz.sh, ASan + UBSan).
-# The build runs the unit tests, the integration suites that need no CAN interface and
-# every vcan suite (ctest -L vcan). Any sanitizer report fails the stage: reports make the
-# process fail (halt_on_error, abort_on_error), and UBSan reports are also written to files
-# that are checked at the end.
+# Test stage: the tests again under AddressSanitizer + LeakSanitizer +
+# UndefinedBehaviorSanitizer, in one build:
+#   - the unit tests always (they need no CAN interface and run on the host);
+#   - where scripts/vcan-run runs natively (a host with the vcan module), also the
+#     integration suites that need no CAN interface and every vcan suite (ctest -L vcan).
+#   - Inside User-Mode Linux (a kernel without SocketCAN) the vcan suites are not run
+#     here: ASan and LSan cannot run there (their shadow memory and allocator need
+#     address ranges that UML's processes do not have; the runtime aborts at start-up).
+#     There the programs' memory is checked by 25-memcheck.sh (valgrind, every vcan
+#     suite), and the parsers by the fuzz stage (30-fuzz.sh, ASan + UBSan).
+# Any sanitizer report fails the stage: reports make the process fail (halt_on_error,
+# abort_on_error), and UBSan reports are also written to files that are checked at the end.
 #   SANITIZER_BUILD_DIR  the build directory (default $BUILD_DIR-sanitizers)
 set -euo pipefail
 
@@ -36,20 +36,26 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:dete
 
 failed=0
 build=$prefix
+targets=(unit_tests)
 if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
-  sanitizers="address,undefined" names="ASan, LSan, UBSan"
+  vcan=native
+  targets+=(integration_tests)
 else
-  sanitizers="undefined" names="UBSan; vcan0 is in User-Mode Linux here"
+  vcan=uml
 fi
-echo "sanitizers: -fsanitize=$sanitizers build in $build"
-configure_and_build_with "$build" "-fsanitize=$sanitizers" unit_tests integration_tests
-echo "sanitizers: unit tests ($names)"
+echo "sanitizers: ASan, LSan and UBSan build of ${targets[*]} in $build"
+configure_and_build_with "$build" "-fsanitize=address,undefined" "${targets[@]}"
+echo "sanitizers: unit tests"
 "$build/tests/unit/unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-echo "sanitizers: command-line integration tests ($names)"
-"$build/tests/integration/integration_tests" --gtest_filter='CommandLine.*:EmulatorCommandLine.*' --gtest_color=no \
-  --gtest_brief=1 || failed=1
-echo "sanitizers: vcan integration tests ($names)"
-(cd "$build" && ctest -L vcan -LE soak --output-on-failure) || failed=1
+if [[ $vcan == native ]]; then
+  echo "sanitizers: command-line integration tests"
+  "$build/tests/integration/integration_tests" --gtest_filter='CommandLine.*:EmulatorCommandLine.*' --gtest_color=no \
+    --gtest_brief=1 || failed=1
+  echo "sanitizers: vcan integration tests"
+  (cd "$build" && ctest -L vcan -LE soak --output-on-failure) || failed=1
+else
+  echo "sanitizers: vcan0 is in User-Mode Linux here, where ASan cannot run: the vcan suites run under valgrind (25-memcheck.sh)"
+fi
 
 if compgen -G "$reports/ubsan*" >/dev/null; then
   echo "sanitizers: UndefinedBehaviorSanitizer reports:" >&2

@@ -13,7 +13,8 @@
 # assertions that fail only because memcheck makes the programs 20-50 times slower
 # (latency bounds, control periods) are listed but do not fail this stage: the plain
 # ctest run, before the stages, is where the tests' own verdict counts.
-#   MEMCHECK_DIR  where the wrappers and logs go (default $BUILD_DIR-memcheck)
+#   MEMCHECK_DIR   where the wrappers and logs go (default $BUILD_DIR-memcheck)
+#   MEMCHECK_JOBS  suites run at once (default 2)
 set -euo pipefail
 
 REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
@@ -30,7 +31,7 @@ declare -A programs=(
   [wheeltecd]=$BUILD_DIR/daemon/wheeltecd
   [wheeltec-emu]=$BUILD_DIR/emulator/wheeltec-emu
 )
-# wheeltecctl is left out: it touches no CAN socket, it runs under ASan in 20-sanitizers.sh,
+# wheeltecctl is left out: it touches no CAN socket, its logic runs under ASan in the unit tests (20-sanitizers.sh),
 # and valgrind's start-up in UML (~3 s) would add minutes to the Wheeltecctl suite.
 ln -s "$BUILD_DIR/cli/wheeltecctl" "$work/bin/wheeltecctl"
 for name in "${!programs[@]}"; do
@@ -38,7 +39,7 @@ for name in "${!programs[@]}"; do
   cat >"$work/bin/$name" <<EOF
 #!/bin/sh
 exec valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect \\
-  --errors-for-leak-kinds=definite,indirect --log-file=$work/logs/$name.%p.log ${programs[$name]} "\$@"
+  --errors-for-leak-kinds=definite,indirect --log-file=$work/logs/$name.\${MEMCHECK_SUITE:-all}.%p.log ${programs[$name]} "\$@"
 EOF
   chmod +x "$work/bin/$name"
 done
@@ -51,12 +52,26 @@ export WHEELTEC_BIN_DIR=$work/bin WHEELTEC_TEST_START_ALLOWANCE_S=20
 suites=$(cd "$BUILD_DIR" && ctest -N -L vcan -LE soak | sed -n 's/^ *Test *#[0-9]*: integration\.\(.*\)$/\1/p' |
   grep -vx EmulatorFidelity)
 [[ -n $suites ]] || { echo "memcheck: no vcan suites found in $BUILD_DIR" >&2; exit 1; }
+# Two suites at a time, each in its own vcan-run session: under valgrind a suite spends
+# much of its time waiting, and timing failures do not count here. Process ids repeat
+# across sessions, so each log is named after its suite too.
+parallel=${MEMCHECK_JOBS:-2}
+run_suite() {
+  local suite=$1 status=0
+  MEMCHECK_SUITE=$suite timeout 900 "$REPO_ROOT/scripts/vcan-run" -- "$BUILD_DIR/tests/integration/integration_tests" \
+    --gtest_filter="$suite.*" --gtest_color=no --gtest_brief=1 >"$work/$suite.out" 2>&1 || status=$?
+  echo "$status" >"$work/$suite.status"
+}
+for suite in $suites; do
+  while (($(jobs -rp | wc -l) >= parallel)); do wait -n || true; done
+  run_suite "$suite" &
+done
+wait
+
 failed=0
 for suite in $suites; do
   output=$work/$suite.out
-  status=0
-  timeout 900 "$REPO_ROOT/scripts/vcan-run" -- "$BUILD_DIR/tests/integration/integration_tests" \
-    --gtest_filter="$suite.*" --gtest_color=no --gtest_brief=1 >"$output" 2>&1 || status=$?
+  status=$(<"$work/$suite.status")
   slow=$(grep '^\[  FAILED  \] .*(' "$output" | sed 's/^\[  FAILED  \] \([^ ]*\).*/\1/' | tr '\n' ' ' || true)
   summary=$(grep -m1 '^\[==========\] .* ran\.' "$output" || true)
   if [[ -z $summary ]]; then

@@ -77,9 +77,9 @@ void Gateway::start_daemon(std::chrono::milliseconds ready_timeout) {
 
 void Gateway::wait_online(std::chrono::milliseconds timeout) {
   auto client = connect();
-  const auto deadline = SteadyClock::now() + timeout;
+  const auto deadline = SteadyClock::now() + timeout + start_allowance();
   for (;;) {
-    const Json status = client.call("status");
+    const Json status = client.call("status", nullptr, std::chrono::seconds(2) + start_allowance());
     if (status["chassis"]["online"] == true) return;
     if (SteadyClock::now() > deadline) {
       throw std::runtime_error("the chassis did not come online within " + std::to_string(timeout.count()) +
