@@ -95,6 +95,7 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
   void stop(const std::string& final_payload) {
     if (phase_ == Phase::connected) {
       publish(will_.topic, final_payload, 1, true);
+      phase_ = Phase::stopped;  // the disconnect callback that follows is no loss
       mosquitto_disconnect(mosq_);
       // Best effort: the socket is non-blocking and the loop is ending.
       for (int i = 0; i < 10 && mosquitto_want_write(mosq_); ++i) mosquitto_loop_write(mosq_, 1);
