@@ -20,14 +20,16 @@ class RateLimit {
                              : SteadyClock::duration::zero()) {}
 
   bool admit(SteadyClock::time_point now) {
-    if (next_ && now < *next_) return false;
-    next_ = next_ ? std::max(*next_ + interval_, now + interval_ / 2) : now + interval_;
+    if (started_ && now < next_) return false;
+    next_ = started_ ? std::max(next_ + interval_, now + interval_ / 2) : now + interval_;
+    started_ = true;
     return true;
   }
 
  private:
   SteadyClock::duration interval_;
-  std::optional<SteadyClock::time_point> next_;
+  bool started_ = false;
+  SteadyClock::time_point next_{};
 };
 
 // Delays that double from `first` up to `longest`; reset() after a success.

@@ -15,12 +15,12 @@ namespace {
 using integration::run_program;
 using integration::TestDirectory;
 
-struct Run {
+struct BridgeRun {
   int code;
   std::string err;
 };
 
-Run run_bridge(const TestDirectory& directory, const std::vector<std::string>& arguments) {
+BridgeRun run_bridge(const TestDirectory& directory, const std::vector<std::string>& arguments) {
   const auto done = run_program(fleet::bridge_program(), arguments, directory.path(), std::chrono::seconds(5));
   EXPECT_FALSE(done.timed_out) << done.describe();
   return {done.status.exited ? done.status.code : -1, done.err};
@@ -50,7 +50,7 @@ TEST(MqttCommandLine, WildcardsAndEmptyLevelsAreRefused) {
   for (const auto& [flag, value] : std::vector<std::pair<std::string, std::string>>{
            {"--robot", "r+"}, {"--robot", "#"}, {"--robot", "a/b"}, {"--robot", ""},
            {"--prefix", "a//b"}, {"--prefix", "fleet/#"}, {"--prefix", "/wheeltec"}, {"--prefix", ""}}) {
-    const Run run = run_bridge(directory, {flag, value});
+    const BridgeRun run = run_bridge(directory, {flag, value});
     EXPECT_EQ(run.code, 2) << flag << " " << value;
     EXPECT_NE(run.err.find(flag == "--robot" ? "robot" : "prefix"), std::string::npos) << run.err;
     EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
@@ -74,7 +74,7 @@ TEST(MqttCommandLine, BadConfigNamesTheKey) {
            {R"({"robot": "a+b"})", "robot"},
            {R"({"telemetry": {"queue_limit": -1}})", "telemetry.queue_limit"},
            {R"({"broker": )", "syntax error"}}) {
-    const Run run = run_bridge(directory, {"--config", write_config(directory, text)});
+    const BridgeRun run = run_bridge(directory, {"--config", write_config(directory, text)});
     EXPECT_EQ(run.code, 2) << text;
     EXPECT_NE(run.err.find(key), std::string::npos) << run.err;
   }
@@ -83,7 +83,7 @@ TEST(MqttCommandLine, BadConfigNamesTheKey) {
 TEST(MqttCommandLine, ConfigReadableByOthersIsRefused) {
   TestDirectory directory;
   const std::string path = write_config(directory, R"({"broker": {"username": "r1", "password": "s3cret"}})", 0644);
-  const Run run = run_bridge(directory, {"--config", path, "--robot", "r1"});
+  const BridgeRun run = run_bridge(directory, {"--config", path, "--robot", "r1"});
   EXPECT_EQ(run.code, 2);
   EXPECT_NE(run.err.find("readable or writable by others"), std::string::npos) << run.err;
   EXPECT_EQ(run.err.find("s3cret"), std::string::npos) << run.err;
@@ -91,7 +91,7 @@ TEST(MqttCommandLine, ConfigReadableByOthersIsRefused) {
 
 TEST(MqttCommandLine, MissingConfigFileIsNamed) {
   TestDirectory directory;
-  const Run run = run_bridge(directory, {"--config", (directory / "absent.json").string()});
+  const BridgeRun run = run_bridge(directory, {"--config", (directory / "absent.json").string()});
   EXPECT_EQ(run.code, 2);
   EXPECT_NE(run.err.find("absent.json"), std::string::npos) << run.err;
 }

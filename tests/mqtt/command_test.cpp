@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 namespace wheeltec::mqtt {
 namespace {
 
@@ -79,7 +82,7 @@ TEST(MqttCommand, OversizedAndDeeplyNestedPayloadsAreRefused) {
 }
 
 TEST(MqttCommand, StopIsNeverRefused) {
-  for (const std::string payload : {"", "{}", "garbage", "[1]", R"({"vx":1})", R"({"id":[]})",
+  for (const std::string& payload : std::vector<std::string>{"", "{}", "garbage", "[1]", R"({"vx":1})", R"({"id":[]})",
                                     std::string(kMaxCommandBytes + 1, '{')}) {
     const auto request = accepted(Command::stop, payload);
     EXPECT_EQ(request.command, Command::stop);
