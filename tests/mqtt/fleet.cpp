@@ -142,7 +142,9 @@ void publish(const Broker& broker, const std::filesystem::path& directory, const
              const std::string& payload, const std::vector<std::string>& arguments) {
   std::vector<std::string> all = broker_arguments(broker);
   all.insert(all.end(), arguments.begin(), arguments.end());
-  all.insert(all.end(), {"-t", topic, "-m", payload});
+  all.insert(all.end(), {"-t", topic});
+  if (payload.empty()) all.push_back("-n");  // -m "" is refused
+  else all.insert(all.end(), {"-m", payload});
   const auto done = integration::run_program(kMosquittoPub, all, directory, std::chrono::seconds(10));
   if (!done.status.exited_with(0)) throw std::runtime_error("mosquitto_pub failed: " + done.describe());
 }
@@ -153,10 +155,12 @@ std::unique_ptr<ChildProcess> keep_publishing(const Broker& broker, const std::f
   static int count = 0;
   const long long repeats = duration / period;
   std::ostringstream script;
-  script << "i=0; while [ $i -lt " << repeats << " ]; do printf '%s\\n' '" << payload << "'; sleep "
-         << std::chrono::duration<double>(period).count() << "; i=$((i+1)); done | " << kMosquittoPub
-         << " -h 127.0.0.1 -p " << broker.port() << " -l -t '" << topic << "'";
-  return std::make_unique<ChildProcess>("operator-" + std::to_string(++count), "/bin/sh",
+  // The lines come from a coprocess (no /dev/fd for <(...) in User-Mode Linux); exec makes
+  // the publisher this process, so killing it silences the operator at once.
+  script << "coproc LINES { for ((i = 0; i < " << repeats << "; i++)); do printf '%s\\n' '" << payload
+         << "'; sleep " << std::chrono::duration<double>(period).count() << "; done; }; exec " << kMosquittoPub
+         << " -h 127.0.0.1 -p " << broker.port() << " -l -t '" << topic << "' <&${LINES[0]}";
+  return std::make_unique<ChildProcess>("operator-" + std::to_string(++count), "/bin/bash",
                                         std::vector<std::string>{"-c", script.str()}, directory);
 }
 

@@ -95,13 +95,14 @@ TEST_F(MqttFleet, EachRobotsTelemetryArrivesUnderItsOwnName) {
 TEST_F(MqttFleet, RetainedStatusAndOnlineAreThereForALateSubscriber) {
   fleet::Subscription late(*broker_, dir(), {"wheeltec/r1/status", "wheeltec/r1/online", "wheeltec/r2/status"});
   const auto status = late.wait_for(1, "wheeltec/r1/status");
-  ASSERT_EQ(status.size(), 1u);
+  ASSERT_GE(status.size(), 1u);
   EXPECT_TRUE(status[0].retained);
   const Json object = Json::parse(status[0].payload);
   EXPECT_EQ(object["chassis"]["online"], true) << object.dump();
   EXPECT_EQ(object["bus"]["interface"], "vcan0");
   const auto r2 = late.wait_for(1, "wheeltec/r2/status");
-  ASSERT_EQ(r2.size(), 1u);
+  ASSERT_GE(r2.size(), 1u);
+  EXPECT_TRUE(r2[0].retained);
   EXPECT_EQ(Json::parse(r2[0].payload)["bus"]["interface"], "vcan1");
   const auto online = late.wait_for(1, "wheeltec/r1/online");
   ASSERT_EQ(online.size(), 1u);
@@ -278,7 +279,7 @@ TEST_F(MqttFleet, KillNineOfABridgePublishesItsLastWill) {
   r2_->start_bridge();
   wait_online(*r2_);
   EXPECT_TRUE(bus1.collect(is_moving_frame, 1500ms).empty()) << "a retained drive moved the robot";
-  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/drive", "", {"-r", "-n"});  // clears it
+  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/drive", "", {"-r"});  // clears it
 }
 
 }  // namespace
