@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "test_environment.hpp"
+
 namespace fleet {
 namespace {
 
@@ -72,7 +74,8 @@ void Broker::start() {
   process_ = std::make_unique<ChildProcess>("mosquitto-" + std::to_string(++starts_), kMosquitto,
                                             std::vector<std::string>{"-c", (directory_ / "mosquitto.conf").string()},
                                             directory_);
-  const auto deadline = SteadyClock::now() + std::chrono::seconds(5);
+  // Generous: a loaded machine running User-Mode Linux starts programs slowly.
+  const auto deadline = SteadyClock::now() + std::chrono::seconds(15) + integration::start_allowance();
   while (!accepts_connections(port_)) {
     if (process_->wait_for_exit(std::chrono::milliseconds(0)) || SteadyClock::now() > deadline) {
       throw std::runtime_error("mosquitto did not start\n" + logs());
@@ -93,14 +96,21 @@ std::string Broker::logs() const { return process_ ? process_->output_report() :
 Subscription::Subscription(const Broker& broker, const std::filesystem::path& directory,
                            const std::vector<std::string>& topics, bool mqtt5) {
   static int count = 0;
+  ++count;
+  probe_topic_ = "fleet-test/probe/" + std::to_string(count);
   std::vector<std::string> arguments = broker_arguments(broker);
   if (mqtt5) arguments.insert(arguments.end(), {"-V", "mqttv5"});
   for (const auto& topic : topics) arguments.insert(arguments.end(), {"-t", topic});
-  arguments.insert(arguments.end(), {"-F", "%t|%r|%D|%p"});
-  process_ = std::make_unique<ChildProcess>("mosquitto_sub-" + std::to_string(++count), kMosquittoSub, arguments,
+  arguments.insert(arguments.end(), {"-t", probe_topic_, "-F", "%t|%r|%D|%p"});
+  process_ = std::make_unique<ChildProcess>("mosquitto_sub-" + std::to_string(count), kMosquittoSub, arguments,
                                             directory);
-  // Subscribed once it has connected; give it that moment (it prints nothing until a message).
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // Subscribed once a probe message of its own comes back (it prints nothing before).
+  const auto deadline = SteadyClock::now() + std::chrono::seconds(10);
+  while (process_->standard_output().find(probe_topic_) == std::string::npos) {
+    if (SteadyClock::now() > deadline) throw std::runtime_error("mosquitto_sub did not subscribe");
+    publish(broker, directory, probe_topic_, "probe");
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
 }
 
 Subscription::~Subscription() {
@@ -120,7 +130,7 @@ std::vector<Subscription::Message> Subscription::messages() const {
     std::getline(fields, message.correlation, '|');
     std::getline(fields, message.payload);
     message.retained = retained == "1";
-    messages.push_back(std::move(message));
+    if (message.topic != probe_topic_) messages.push_back(std::move(message));
   }
   return messages;
 }

@@ -63,6 +63,7 @@ class Subscription {
                                 std::chrono::milliseconds timeout = std::chrono::seconds(5)) const;
 
  private:
+  std::string probe_topic_;  // a topic of its own, to know when it has subscribed
   std::unique_ptr<ChildProcess> process_;
 };
 
