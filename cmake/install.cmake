@@ -8,6 +8,9 @@ set(WHEELTEC_NETWORKD_DIR "lib/systemd/network" CACHE STRING "systemd-networkd d
 set(WHEELTEC_DOC_DIR "${CMAKE_INSTALL_DATADIR}/doc/wheeltec-gateway")
 
 install(FILES systemd/wheeltecd.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
+if(TARGET wheeltec-mqtt)
+  install(FILES systemd/wheeltec-mqtt.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
+endif()
 install(FILES systemd/80-wheeltec-can.network DESTINATION ${WHEELTEC_NETWORKD_DIR})
 # Absolute: the unit and the daemon's default look for /etc/wheeltecd/wheeltecd.json.
 set(WHEELTEC_CONFIG_DIR "/etc/wheeltecd" CACHE PATH "directory of wheeltecd.json")
@@ -19,6 +22,9 @@ install(FILES packaging/wheeltecd.json DESTINATION ${WHEELTEC_CONFIG_DIR})
 # Man pages and changelog compressed as Debian wants them (gzip -n: reproducible).
 find_program(GZIP_PROGRAM gzip REQUIRED)
 set(WHEELTEC_MAN_PAGES man/wheeltecd.8 man/wheeltecctl.1 man/wheeltec-emu.1)
+if(TARGET wheeltec-mqtt)
+  list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-mqtt.1)
+endif()
 set(WHEELTEC_COMPRESSED_FILES)
 foreach(page IN LISTS WHEELTEC_MAN_PAGES)
   get_filename_component(name ${page} NAME)

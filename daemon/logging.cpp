@@ -29,15 +29,15 @@ bool stderr_is_journal() {
 
 }  // namespace
 
-void setup_logging(const std::string& level) {
+void setup_logging(const std::string& level, const std::string& program) {
   std::shared_ptr<spdlog::logger> logger;
   if (stderr_is_journal()) {
     logger = std::make_shared<spdlog::logger>(
-        "wheeltecd", std::make_shared<spdlog::sinks::systemd_sink_st>("wheeltecd"));
+        program, std::make_shared<spdlog::sinks::systemd_sink_st>(program));
     logger->set_pattern("%v");
   } else {
-    logger = spdlog::stderr_logger_st("wheeltecd");
-    logger->set_pattern("wheeltecd[%l]: %v");
+    logger = spdlog::stderr_logger_st(program);
+    logger->set_pattern(program + "[%l]: %v");
   }
   spdlog::set_default_logger(std::move(logger));
   set_log_level(level);

@@ -5,8 +5,9 @@
 namespace wheeltec::daemon {
 
 // Log records go to the systemd journal (with their priority) when stderr is connected to
-// it, which systemd announces in JOURNAL_STREAM; to stderr otherwise.
-void setup_logging(const std::string& level);
+// it, which systemd announces in JOURNAL_STREAM; to stderr otherwise. `program` names the
+// records (wheeltec-mqtt logs the same way).
+void setup_logging(const std::string& level, const std::string& program = "wheeltecd");
 
 // level: trace, debug, info, warn, error (log.level).
 void set_log_level(const std::string& level);

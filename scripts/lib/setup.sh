@@ -7,6 +7,7 @@
 readonly WHEELTEC_BUILD_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libboost-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libcli11-dev libsystemd-dev
+  libmosquitto-dev
 )
 # What running them on a virtual CAN interface needs (the demo and the vcan tests):
 # scripts/vcan-run, natively or inside User-Mode Linux.
@@ -14,7 +15,8 @@ readonly WHEELTEC_VCAN_PACKAGES=(can-utils iproute2 kmod user-mode-linux)
 # What only the tests need: GoogleTest, and for the systemd suite (tests/systemd,
 # scripts/systemd-uml) systemd as PID 1 in UML, cpack's .deb installed with dpkg, users
 # made with useradd/usermod, runuser, jq.
-readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd util-linux jq)
+readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd util-linux jq
+  mosquitto mosquitto-clients)  # the broker and its clients of the wheeltec-mqtt fleet suite
 
 # Prints the packages among the arguments that are not installed.
 missing_packages() {

@@ -14,7 +14,8 @@ trap 'rm -rf -- "$work"' EXIT
 status=0
 for unit in "$REPO_ROOT"/systemd/*.service; do
   name=$(basename "$unit")
-  sed "s|^ExecStart=/usr/bin/wheeltecd|ExecStart=$BUILD_DIR/daemon/wheeltecd|" "$unit" >"$work/$name"
+  sed -e "s|^ExecStart=/usr/bin/wheeltecd|ExecStart=$BUILD_DIR/daemon/wheeltecd|" \
+      -e "s|^ExecStart=/usr/bin/wheeltec-mqtt|ExecStart=$BUILD_DIR/mqtt/wheeltec-mqtt|" "$unit" >"$work/$name"
   if output=$(systemd-analyze verify --man=no "$work/$name" 2>&1) && [[ -z $output ]]; then
     echo "verify $name: OK"
   else

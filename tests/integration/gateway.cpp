@@ -25,8 +25,9 @@ Gateway::Gateway(std::filesystem::path directory, GatewayOptions options)
       options_(std::move(options)),
       socket_path_(directory_ / "wheeltecd.sock"),
       config_path_(directory_ / "wheeltecd.json") {
+  if (options_.interface.empty()) options_.interface = test_interface();
   config_ = {
-      {"can", {{"interface", test_interface()}, {"dialect", options_.dialect}}},
+      {"can", {{"interface", options_.interface}, {"dialect", options_.dialect}}},
       {"chassis", {{"type", options_.chassis}}},
       {"control", {{"rate_hz", 20}, {"command_timeout_s", 0.5}, {"enable_refresh_s", 1.0}}},
       {"telemetry", {{"timeout_s", 0.5}}},
@@ -43,7 +44,7 @@ Gateway::~Gateway() {
 }
 
 void Gateway::start_emulator() {
-  std::vector<std::string> arguments{"--interface",  test_interface(),
+  std::vector<std::string> arguments{"--interface",  options_.interface,
                                      "--chassis",    options_.chassis,
                                      "--dialect",    options_.dialect,
                                      "--boot-delay", number_text(options_.boot_delay_s),

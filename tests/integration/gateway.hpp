@@ -18,6 +18,7 @@ namespace integration {
 enum class EmulatorSelfTest { skip, drive };
 
 struct GatewayOptions {
+  std::string interface;  // empty: test_interface()
   std::string chassis = "mecanum";
   std::string dialect = "manual";
   double battery_v = 22.5;

@@ -1,0 +1,255 @@
+#include "bridge.hpp"
+
+#include <boost/asio/error.hpp>
+#include <spdlog/spdlog.h>
+
+namespace wheeltec::mqtt {
+namespace {
+
+using client::Json;
+
+constexpr std::chrono::milliseconds kDaemonRetryFirst{200};
+constexpr std::chrono::milliseconds kDaemonRetryLongest{5000};
+constexpr std::string_view kAnonymousOperator = "";
+
+std::chrono::milliseconds milliseconds(double seconds) {
+  return std::chrono::milliseconds(static_cast<long long>(seconds * 1000));
+}
+
+std::string default_client_id(const BridgeConfig& config) { return "wheeltec-mqtt-" + *config.robot; }
+
+}  // namespace
+
+Bridge::Bridge(boost::asio::io_context& io, BridgeConfig config)
+    : io_(io),
+      config_(std::move(config)),
+      topics_(config_.prefix, *config_.robot),
+      mqtt_(io.get_executor(), config_.broker, config_.broker.client_id.value_or(default_client_id(config_)),
+            LastWill{topics_.online(), "false"}),
+      daemon_backoff_(kDaemonRetryFirst, kDaemonRetryLongest),
+      daemon_retry_timer_(io),
+      stats_timer_(io),
+      operators_(io.get_executor(), config_.socket, static_cast<std::size_t>(config_.operators.max),
+                 milliseconds(config_.operators.idle_s)),
+      telemetry_rate_(config_.telemetry.max_rate_hz),
+      backlog_(static_cast<std::size_t>(config_.telemetry.queue_limit)) {
+  mqtt_.on_connected([this] { broker_connected(); });
+  mqtt_.on_lost([this](const std::string& reason) { broker_lost(reason); });
+  mqtt_.on_message([this](const MqttMessage& message) { handle_message(message); });
+  mqtt_.on_drained([this] { flush_backlog(); });
+  mqtt_.subscribe(topics_.command_filter(), 1);
+}
+
+Bridge::~Bridge() = default;
+
+void Bridge::start() {
+  spdlog::info("robot \"{}\": topics under {}/{}, daemon at {}", *config_.robot, config_.prefix, *config_.robot,
+               config_.socket);
+  connect_daemon();
+  mqtt_.start();
+  run_stats_timer();
+}
+
+void Bridge::stop() {
+  stopped_ = true;
+  mqtt_.stop("false");
+  operators_.close_all();
+  if (daemon_) daemon_->close();
+  daemon_retry_timer_.cancel();
+  stats_timer_.cancel();
+}
+
+// --- the daemon ---
+
+void Bridge::connect_daemon() {
+  daemon_ = std::make_unique<client::Connection>(io_.get_executor());
+  daemon_->on_telemetry([this](const client::Telemetry& record) { handle_telemetry(record); });
+  daemon_->on_status([this](const client::Status& status) { handle_status(status.json); });
+  daemon_->on_close([this](boost::system::error_code ec) { daemon_lost(ec); });
+  daemon_->async_connect(config_.socket, [this](boost::system::error_code ec) {
+    if (ec) return daemon_lost(ec);
+    daemon_->async_subscribe([this](boost::system::error_code ec, const Json&) {
+      if (ec) {
+        spdlog::error("wheeltecd refused the subscription: {}", ec.message());
+        return daemon_->close(), daemon_lost(ec);
+      }
+      daemon_connected();
+    });
+  });
+}
+
+void Bridge::daemon_connected() {
+  daemon_ready_ = true;
+  daemon_backoff_.reset();
+  ++counters_.daemon_connects;
+  spdlog::info("connected to wheeltecd at {}", config_.socket);
+  // Notifications come on change only: the current status once, for retained status.
+  daemon_->async_call("status", nullptr, [this](boost::system::error_code ec, const Json& status) {
+    if (!ec) handle_status(status);
+  });
+}
+
+void Bridge::daemon_lost(boost::system::error_code ec) {
+  if (stopped_) return;
+  if (daemon_ready_) spdlog::warn("lost wheeltecd at {}: {}", config_.socket, ec.message());
+  daemon_ready_ = false;
+  const auto delay = daemon_backoff_.next();
+  spdlog::debug("reconnecting to wheeltecd in {} ms", delay.count());
+  daemon_retry_timer_.expires_after(delay);
+  daemon_retry_timer_.async_wait([this](boost::system::error_code ec) {
+    if (!ec && !stopped_) connect_daemon();
+  });
+}
+
+void Bridge::handle_telemetry(const client::Telemetry& record) {
+  if (!telemetry_rate_.admit(SteadyClock::now())) {
+    ++counters_.telemetry_rate_limited;
+    return;
+  }
+  std::string payload = record.json.dump();
+  if (backlog_.empty() && mqtt_.connected() && !mqtt_.congested()) {
+    if (mqtt_.publish(topics_.telemetry(), payload, 0, false)) {
+      ++counters_.telemetry_published;
+      return;
+    }
+  }
+  backlog_.push(std::move(payload));
+}
+
+void Bridge::handle_status(const Json& status) {
+  last_status_ = status.dump();
+  mqtt_.publish(topics_.status(), *last_status_, 1, true);
+}
+
+// --- the broker ---
+
+void Bridge::broker_connected() {
+  // A restarted broker may have lost what was retained.
+  mqtt_.publish(topics_.online(), "true", 1, true);
+  if (last_status_) mqtt_.publish(topics_.status(), *last_status_, 1, true);
+  flush_backlog();
+}
+
+void Bridge::broker_lost(const std::string& reason) {
+  // Nobody remote can see or steer the robot now.
+  spdlog::warn("broker lost ({}): stopping the robot", reason);
+  ++counters_.stops_on_broker_loss;
+  if (daemon_ready_) {
+    daemon_->async_call("stop", nullptr, [](boost::system::error_code ec, const Json&) {
+      if (ec) spdlog::error("stop after losing the broker failed: {}", ec.message());
+    });
+  }
+  operators_.close_all();
+}
+
+void Bridge::flush_backlog() {
+  while (!backlog_.empty() && mqtt_.connected() && !mqtt_.congested()) {
+    if (!mqtt_.publish(topics_.telemetry(), *backlog_.pop(), 0, false)) return;
+    ++counters_.telemetry_published;
+  }
+}
+
+Bridge::ReplyTarget Bridge::reply_target(const MqttMessage& message) const {
+  // Never onto the robot's own topics, where a reply would pass for the robot's data.
+  if (message.response_topic && !topics_.owns(*message.response_topic)) {
+    return {*message.response_topic, message.correlation_data};
+  }
+  return {topics_.result(), message.correlation_data};
+}
+
+void Bridge::handle_message(const MqttMessage& message) {
+  const std::optional<Command> command = topics_.command_of(message.topic);
+  if (!command) return;
+  ++counters_.commands_received;
+  const ReplyTarget target = reply_target(message);
+  ParsedCommand parsed = parse_command(*command, message.payload);
+  if (const auto* refusal = std::get_if<CommandRefusal>(&parsed)) {
+    ++counters_.commands_refused;
+    spdlog::info("refused {} command: {}", command_name(*command), refusal->message);
+    send_reply(target, error_reply(*command, refusal->id, error_object(refusal->code, refusal->message)));
+    return;
+  }
+  const auto& request = std::get<CommandRequest>(parsed);
+  if (message.retained && *command != Command::stop) {
+    ++counters_.commands_refused;
+    send_reply(target, error_reply(*command, request.id,
+                                   error_object(kInvalidRequest, "retained commands are not executed")));
+    return;
+  }
+  const std::string operator_id =
+      request.operator_name.value_or(message.response_topic.value_or(std::string(kAnonymousOperator)));
+  execute(request, operator_id, target);
+}
+
+void Bridge::execute(const CommandRequest& request, const std::string& operator_id, ReplyTarget target) {
+  const Command command = request.command;
+  auto answer = [this, command, id = request.id, target = std::move(target)](boost::system::error_code ec,
+                                                                           const Json& result) {
+    if (!ec) return send_reply(target, result_reply(command, id, result));
+    if (ec.category() == client::rpc_category()) {
+      ++counters_.commands_failed;
+      return send_reply(target, error_reply(command, id, result));
+    }
+    ++counters_.commands_refused;
+    if (ec == boost::asio::error::no_buffer_space) {
+      return send_reply(target, error_reply(command, id,
+                                            error_object(kTooManyOperators, "too many remote operators at once "
+                                                                            "(operators.max)")));
+    }
+    send_reply(target, error_reply(command, id, error_object(kDaemonUnavailable, "wheeltecd: " + ec.message())));
+  };
+  const std::string method(command_name(command));
+  if (command == Command::drive) {
+    operators_.call(operator_id, method, request.params, std::move(answer));
+    return;
+  }
+  if (!daemon_ready_) return answer(boost::asio::error::not_connected, nullptr);
+  daemon_->async_call(method, request.params, std::move(answer));
+}
+
+void Bridge::send_reply(const ReplyTarget& target, const Json& reply) {
+  if (!mqtt_.publish_reply(target.topic, reply.dump(), target.correlation_data)) {
+    spdlog::debug("reply to {} not published", target.topic);
+  }
+}
+
+// --- stats ---
+
+Json Bridge::bridge_stats() const {
+  return Json{{"daemon_connected", daemon_ready_},
+              {"daemon_connects", counters_.daemon_connects},
+              {"broker_connects", mqtt_.connects()},
+              {"broker_losses", mqtt_.losses()},
+              {"stops_on_broker_loss", counters_.stops_on_broker_loss},
+              {"telemetry_published", counters_.telemetry_published},
+              {"telemetry_rate_limited", counters_.telemetry_rate_limited},
+              {"telemetry_queued", backlog_.size()},
+              {"telemetry_dropped", backlog_.dropped()},
+              {"commands_received", counters_.commands_received},
+              {"commands_refused", counters_.commands_refused},
+              {"commands_failed", counters_.commands_failed},
+              {"operators", operators_.size()}};
+}
+
+void Bridge::publish_stats() {
+  if (!mqtt_.connected()) return;
+  if (!daemon_ready_) {
+    mqtt_.publish(topics_.stats(), Json{{"bridge", bridge_stats()}, {"wheeltecd", nullptr}}.dump(), 0, false);
+    return;
+  }
+  daemon_->async_call("stats", nullptr, [this](boost::system::error_code ec, const Json& stats) {
+    const Json payload{{"bridge", bridge_stats()}, {"wheeltecd", ec ? Json() : stats}};
+    mqtt_.publish(topics_.stats(), payload.dump(), 0, false);
+  });
+}
+
+void Bridge::run_stats_timer() {
+  stats_timer_.expires_after(milliseconds(config_.stats.period_s));
+  stats_timer_.async_wait([this](boost::system::error_code ec) {
+    if (ec || stopped_) return;
+    publish_stats();
+    run_stats_timer();
+  });
+}
+
+}  // namespace wheeltec::mqtt

@@ -1,0 +1,57 @@
+#pragma once
+
+// A remote command as it arrives on PREFIX/ROBOT/cmd/NAME, turned into the daemon's
+// request or refused; and the reply that goes back. Pure: no I/O.
+//
+// Payload: empty, or a JSON object. `drive` takes "vx", "vy", "wz" (numbers, absent = 0);
+// every command may carry "id" (a string or number, echoed in the reply: the correlation
+// of MQTT 3.1.1 clients) and "operator" (who sends it, see operator_sessions.hpp). `stop`
+// is never refused, whatever its payload.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include <nlohmann/json.hpp>
+
+#include "topics.hpp"
+
+namespace wheeltec::mqtt {
+
+using Json = nlohmann::ordered_json;
+
+inline constexpr std::size_t kMaxCommandBytes = 64 * 1024;  // the daemon's line limit
+inline constexpr std::size_t kMaxOperatorNameBytes = 128;
+
+// JSON-RPC error codes the bridge itself answers with.
+inline constexpr int kParseError = -32700;
+inline constexpr int kInvalidRequest = -32600;
+inline constexpr int kInvalidParams = -32602;
+inline constexpr int kDaemonUnavailable = -32000;  // wheeltecd cannot be reached, or gave no answer
+inline constexpr int kTooManyOperators = -32007;   // every operator slot is taken (operators.max)
+
+struct CommandRequest {
+  Command command;
+  Json params;  // null: none
+  Json id;      // null: none given
+  std::optional<std::string> operator_name;
+};
+
+struct CommandRefusal {
+  int code;
+  std::string message;
+  Json id;  // when it could be read
+};
+
+using ParsedCommand = std::variant<CommandRequest, CommandRefusal>;
+
+ParsedCommand parse_command(Command command, std::string_view payload);
+
+// {"jsonrpc":"2.0","id":ID,"command":NAME,"result":RESULT} and the same with "error".
+Json result_reply(Command command, const Json& id, const Json& result);
+Json error_reply(Command command, const Json& id, const Json& error);
+Json error_object(int code, std::string_view message);
+
+}  // namespace wheeltec::mqtt

@@ -1,0 +1,54 @@
+#pragma once
+
+// Timing rules with the time passed in: the telemetry rate limit and the reconnect backoff.
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+
+namespace wheeltec::mqtt {
+
+using SteadyClock = std::chrono::steady_clock;
+
+// At most max_hz admissions per second on average (0: no limit). Admission times follow a
+// schedule, so that records that arrive a little early (jitter) do not halve the rate, and
+// a pause does not earn a burst.
+class RateLimit {
+ public:
+  explicit RateLimit(double max_hz)
+      : interval_(max_hz > 0 ? std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(1.0 / max_hz))
+                             : SteadyClock::duration::zero()) {}
+
+  bool admit(SteadyClock::time_point now) {
+    if (started_ && now < next_) return false;
+    next_ = started_ ? std::max(next_ + interval_, now + interval_ / 2) : now + interval_;
+    started_ = true;
+    return true;
+  }
+
+ private:
+  SteadyClock::duration interval_;
+  bool started_ = false;
+  SteadyClock::time_point next_{};
+};
+
+// Delays that double from `first` up to `longest`; reset() after a success.
+class Backoff {
+ public:
+  Backoff(std::chrono::milliseconds first, std::chrono::milliseconds longest)
+      : first_(first), longest_(std::max(first, longest)), next_(first) {}
+
+  std::chrono::milliseconds next() {
+    const auto delay = next_;
+    next_ = std::min(next_ * 2, longest_);
+    return delay;
+  }
+  void reset() { next_ = first_; }
+
+ private:
+  std::chrono::milliseconds first_;
+  std::chrono::milliseconds longest_;
+  std::chrono::milliseconds next_;
+};
+
+}  // namespace wheeltec::mqtt

@@ -1,0 +1,48 @@
+#pragma once
+
+// The bridge's MQTT topics under PREFIX/ROBOT (spec section 7), and the rules that keep a
+// prefix or robot name from reaching into other robots' topics.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace wheeltec::mqtt {
+
+enum class Command { drive, stop, enable, disable, reset_odometry };
+
+// The topic level of a command ("reset_odometry"), which is also the daemon's method name.
+std::string_view command_name(Command command);
+
+// Why `prefix` cannot be a topic prefix, or empty when it can: one or more levels
+// separated by '/', none empty, none holding the wildcards '+' or '#' or a control
+// character, valid UTF-8, not starting with '$' (the broker's own topics).
+std::optional<std::string> prefix_problem(std::string_view prefix);
+// Why `robot` cannot be a robot name: as a prefix, and a single level (no '/').
+std::optional<std::string> robot_name_problem(std::string_view robot);
+
+class Topics {
+ public:
+  // Both must have passed the checks above.
+  Topics(std::string_view prefix, std::string_view robot);
+
+  const std::string& telemetry() const { return telemetry_; }
+  const std::string& status() const { return status_; }
+  const std::string& online() const { return online_; }
+  const std::string& stats() const { return stats_; }
+  // Where results go when the command carried no MQTT 5 response topic.
+  const std::string& result() const { return result_; }
+  // The subscription that covers every command topic: PREFIX/ROBOT/cmd/+.
+  const std::string& command_filter() const { return command_filter_; }
+  std::string command(Command command) const;
+  // The command a topic is for; empty for any other topic (cmd/result among them).
+  std::optional<Command> command_of(std::string_view topic) const;
+  // Whether `topic` lies under PREFIX/ROBOT/, the robot's own topics, cmd/result aside.
+  bool owns(std::string_view topic) const;
+
+ private:
+  std::string base_;
+  std::string telemetry_, status_, online_, stats_, result_, command_filter_;
+};
+
+}  // namespace wheeltec::mqtt

@@ -1,0 +1,285 @@
+// Two robots, one broker: emulators and daemons on vcan0 and vcan1, a wheeltec-mqtt bridge
+// each (robots r1 and r2), one real mosquitto, and the real mosquitto_sub and mosquitto_pub
+// as the operators. Run in one scripts/vcan-run session with VCAN_INTERFACES="vcan0 vcan1".
+// The tests share the fleet and run in order; each leaves it running as it found it.
+
+#include <csignal>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "can_bus.hpp"
+#include "control_frames.hpp"
+#include "fleet.hpp"
+#include "test_environment.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+using fleet::Json;
+using integration::CanBus;
+using integration::ObservedFrame;
+
+bool is_moving_frame(const wheeltec::CanFrame& frame) {
+  return integration::is_control_frame(frame) && !integration::is_zero_control_frame(frame);
+}
+
+class MqttFleet : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    directory_ = new integration::TestDirectory();
+    broker_ = new fleet::Broker(directory_->path());
+    broker_->start();
+    r1_ = new fleet::Robot(*directory_ / "r1", "r1", "vcan0", *broker_);
+    r2_ = new fleet::Robot(*directory_ / "r2", "r2", "vcan1", *broker_);
+    r1_->start();
+    r2_->start();
+    wait_online(*r1_);
+    wait_online(*r2_);
+  }
+
+  static void TearDownTestSuite() {
+    delete r1_;
+    delete r2_;
+    delete broker_;
+    delete directory_;
+  }
+
+  void TearDown() override {
+    if (HasFailure()) std::cerr << broker_->logs() << r1_->logs() << r2_->logs();
+  }
+
+  // The bridge is up once its retained `online` says true.
+  static void wait_online(fleet::Robot& robot) {
+    fleet::Subscription online(*broker_, directory_->path(), {robot.topic("online")});
+    const auto deadline = std::chrono::steady_clock::now() + 5s;
+    while (std::chrono::steady_clock::now() < deadline) {
+      const auto seen = online.messages();
+      if (!seen.empty() && seen.back().payload == "true") return;
+      std::this_thread::sleep_for(50ms);
+    }
+    throw std::runtime_error("bridge " + robot.name() + " not online\n" + robot.logs());
+  }
+
+  const std::filesystem::path& dir() const { return directory_->path(); }
+
+  static integration::TestDirectory* directory_;
+  static fleet::Broker* broker_;
+  static fleet::Robot* r1_;
+  static fleet::Robot* r2_;
+};
+
+integration::TestDirectory* MqttFleet::directory_ = nullptr;
+fleet::Broker* MqttFleet::broker_ = nullptr;
+fleet::Robot* MqttFleet::r1_ = nullptr;
+fleet::Robot* MqttFleet::r2_ = nullptr;
+
+TEST_F(MqttFleet, EachRobotsTelemetryArrivesUnderItsOwnName) {
+  fleet::Subscription telemetry(*broker_, dir(), {"wheeltec/+/telemetry"});
+  const auto r1 = telemetry.wait_for(10, "wheeltec/r1/telemetry");
+  const auto r2 = telemetry.wait_for(10, "wheeltec/r2/telemetry");
+  ASSERT_GE(r1.size(), 10u);
+  ASSERT_GE(r2.size(), 10u);
+  for (const auto& message : telemetry.messages()) {
+    EXPECT_TRUE(message.topic == "wheeltec/r1/telemetry" || message.topic == "wheeltec/r2/telemetry") << message.topic;
+  }
+  // Each record as the API gives it.
+  const Json record = Json::parse(r1.back().payload);
+  for (const char* key : {"seq", "time", "stopped", "velocity", "accel", "gyro", "battery", "odom", "orientation"}) {
+    EXPECT_TRUE(record.contains(key)) << key << " missing in " << record.dump();
+  }
+  EXPECT_GT(Json::parse(r1.back().payload)["seq"].get<int>(), Json::parse(r1.front().payload)["seq"].get<int>());
+}
+
+TEST_F(MqttFleet, RetainedStatusAndOnlineAreThereForALateSubscriber) {
+  fleet::Subscription late(*broker_, dir(), {"wheeltec/r1/status", "wheeltec/r1/online", "wheeltec/r2/status"});
+  const auto status = late.wait_for(1, "wheeltec/r1/status");
+  ASSERT_GE(status.size(), 1u);
+  EXPECT_TRUE(status[0].retained);
+  const Json object = Json::parse(status[0].payload);
+  EXPECT_EQ(object["chassis"]["online"], true) << object.dump();
+  EXPECT_EQ(object["bus"]["interface"], "vcan0");
+  const auto r2 = late.wait_for(1, "wheeltec/r2/status");
+  ASSERT_GE(r2.size(), 1u);
+  EXPECT_TRUE(r2[0].retained);
+  EXPECT_EQ(Json::parse(r2[0].payload)["bus"]["interface"], "vcan1");
+  const auto online = late.wait_for(1, "wheeltec/r1/online");
+  ASSERT_EQ(online.size(), 1u);
+  EXPECT_TRUE(online[0].retained);
+  EXPECT_EQ(online[0].payload, "true");
+}
+
+TEST_F(MqttFleet, StatsArePublishedPeriodically) {
+  fleet::Subscription stats(*broker_, dir(), {"wheeltec/r1/stats"});
+  const auto seen = stats.wait_for(2, "", 8s);
+  ASSERT_GE(seen.size(), 2u);
+  const Json object = Json::parse(seen.back().payload);
+  EXPECT_EQ(object["bridge"]["daemon_connected"], true) << object.dump();
+  EXPECT_GT(object["bridge"]["telemetry_published"].get<int>(), 0);
+  EXPECT_TRUE(object["wheeltecd"].is_object()) << object.dump();
+}
+
+TEST_F(MqttFleet, ADriveReachesOnlyItsRobotOnceAndItsReplyCarriesTheCorrelation) {
+  CanBus bus0("vcan0");
+  CanBus bus1("vcan1");
+  fleet::Subscription replies(*broker_, dir(), {"operators/alice/replies"});
+  fleet::publish(*broker_, dir(), "wheeltec/r1/cmd/drive", R"({"vx":0.3,"wz":0.5})",
+                 {"-V", "mqttv5", "-D", "publish", "response-topic", "operators/alice/replies", "-D", "publish",
+                  "correlation-data", "req-17"});
+  const auto moving = bus0.wait_for(is_moving_frame, 2s);
+  ASSERT_TRUE(moving) << "no motion frame on vcan0";
+  EXPECT_EQ(integration::control_x(moving->frame), 300);
+  EXPECT_EQ(integration::control_z(moving->frame), 500);
+  // Never repeated by the bridge: the daemon's deadman (0.5 s) zeroes the target.
+  const auto zero = bus0.wait_for([](const auto& frame) { return integration::is_zero_control_frame(frame); }, 1500ms);
+  ASSERT_TRUE(zero) << "the single drive was repeated: no zero frame within the deadman";
+  EXPECT_LT(integration::seconds_between(moving->time, zero->time), 0.8);
+  EXPECT_TRUE(bus0.collect(is_moving_frame, 700ms).empty()) << "motion resumed without a command";
+  EXPECT_TRUE(bus1.take_pending(is_moving_frame).empty()) << "r1's drive reached vcan1";
+
+  const auto reply = replies.wait_for(1);
+  ASSERT_EQ(reply.size(), 1u);
+  EXPECT_EQ(reply[0].correlation, "req-17");
+  const Json answer = Json::parse(reply[0].payload);
+  EXPECT_EQ(answer["command"], "drive");
+  EXPECT_DOUBLE_EQ(answer["result"]["vx"].get<double>(), 0.3) << answer.dump();
+}
+
+TEST_F(MqttFleet, WithoutAResponseTopicTheReplyGoesToCmdResult) {
+  fleet::Subscription results(*broker_, dir(), {"wheeltec/r2/cmd/result"}, /*mqtt5=*/false);
+  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/reset_odometry", R"({"id":"odo-1"})", {"-V", "mqttv311"});
+  const auto reply = results.wait_for(1);
+  ASSERT_EQ(reply.size(), 1u);
+  const Json answer = Json::parse(reply[0].payload);
+  EXPECT_EQ(answer["id"], "odo-1");
+  EXPECT_EQ(answer["command"], "reset_odometry");
+  EXPECT_EQ(answer["result"], Json::object());
+}
+
+TEST_F(MqttFleet, ASecondOperatorGetsMinus32001AndStopWorksFromAnyone) {
+  CanBus bus0("vcan0");
+  fleet::Subscription results(*broker_, dir(), {"wheeltec/r1/cmd/result"});
+  auto alice = fleet::keep_publishing(*broker_, dir(), "wheeltec/r1/cmd/drive", R"({"vx":0.2,"operator":"alice"})",
+                                      100ms, 10s);
+  ASSERT_TRUE(bus0.wait_for(is_moving_frame, 6s)) << "alice does not drive";
+  fleet::publish(*broker_, dir(), "wheeltec/r1/cmd/drive", R"({"vx":-0.2,"operator":"bob","id":"b1"})");
+  std::optional<Json> refusal;
+  for (const auto& message : results.wait_for(1000, "", 2s)) {
+    const Json answer = Json::parse(message.payload);
+    if (answer["id"] == "b1") refusal = answer;
+  }
+  ASSERT_TRUE(refusal) << "no reply for bob";
+  EXPECT_EQ((*refusal)["error"]["code"], -32001) << refusal->dump();
+
+  bus0.discard_pending();
+  fleet::publish(*broker_, dir(), "wheeltec/r1/cmd/stop", "", {"-V", "mqttv311"});
+  const auto zero = bus0.wait_for([](const auto& frame) { return integration::is_zero_control_frame(frame); }, 1s);
+  ASSERT_TRUE(zero) << "stop from a third operator did not stop the robot";
+  alice->kill();
+  std::this_thread::sleep_for(600ms);  // alice's deadman, before the next test
+}
+
+TEST_F(MqttFleet, HostileCommandsAreRefusedAndMoveNothing) {
+  CanBus bus0("vcan0");
+  fleet::Subscription results(*broker_, dir(), {"wheeltec/r1/cmd/result"});
+  const std::string big = R"({"vx":0.5,"pad":")" + std::string(70000, 'x') + "\"}";
+  std::ofstream(dir() / "big.json") << big;
+  const std::vector<std::pair<std::string, int>> cases{
+      {"not json", -32700},      {"[0.5]", -32600},          {"0.5", -32600},
+      {R"({"vx":"0.5"})", -32602}, {R"({"vx":true})", -32602}, {R"({"vx":0.5,"turbo":1})", -32602},
+      {R"({"vy":[1]})", -32602},  {std::string(5000, '['), -32600}};
+  for (const auto& [payload, code] : cases) fleet::publish(*broker_, dir(), "wheeltec/r1/cmd/drive", payload);
+  integration::run_program("/usr/bin/mosquitto_pub",
+                           {"-h", "127.0.0.1", "-p", std::to_string(broker_->port()), "-t", "wheeltec/r1/cmd/drive",
+                            "-f", (dir() / "big.json").string()},
+                           dir());
+  const auto replies = results.wait_for(cases.size() + 1, "", 5s);
+  ASSERT_EQ(replies.size(), cases.size() + 1);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    EXPECT_EQ(Json::parse(replies[i].payload)["error"]["code"], cases[i].second) << cases[i].first.substr(0, 40);
+  }
+  EXPECT_EQ(Json::parse(replies.back().payload)["error"]["code"], -32600) << "oversized";
+  EXPECT_TRUE(bus0.collect(is_moving_frame, 1s).empty()) << "a hostile command moved the robot";
+  EXPECT_TRUE(r1_->bridge().running());
+  fleet::Subscription telemetry(*broker_, dir(), {"wheeltec/r1/telemetry"});
+  EXPECT_GE(telemetry.wait_for(3).size(), 3u) << "the bridge stopped publishing";
+}
+
+TEST_F(MqttFleet, KillingTheBrokerWhileARobotDrivesStopsItWithinTheDeadman) {
+  CanBus bus0("vcan0");
+  auto driver = fleet::keep_publishing(*broker_, dir(), "wheeltec/r1/cmd/drive", R"({"vx":0.25})", 100ms, 10s);
+  ASSERT_TRUE(bus0.wait_for(is_moving_frame, 6s)) << "the robot does not drive";
+  std::this_thread::sleep_for(300ms);
+  bus0.discard_pending();
+  const auto killed = integration::WallClock::now();
+  broker_->kill(SIGKILL);
+  const auto zero = bus0.wait_for([](const auto& frame) { return integration::is_zero_control_frame(frame); }, 2s);
+  ASSERT_TRUE(zero) << "no zero frame after the broker died";
+  const double seconds = integration::seconds_between(killed, zero->time);
+  std::cout << "zero frame " << seconds * 1000 << " ms after the broker was killed\n";
+  EXPECT_LT(seconds, 0.5) << "not within the deadman";
+  EXPECT_TRUE(bus0.collect(is_moving_frame, 500ms).empty());
+  driver->kill();
+  broker_->start();
+  wait_online(*r1_);
+  wait_online(*r2_);
+}
+
+TEST_F(MqttFleet, ABrokerRestartIsSurvived) {
+  broker_->kill(SIGTERM);
+  std::this_thread::sleep_for(500ms);
+  broker_->start();
+  // The restarted broker kept nothing: online and status are there again because the
+  // bridges published them after reconnecting.
+  fleet::Subscription late(*broker_, dir(), {"wheeltec/+/online", "wheeltec/+/status", "wheeltec/+/telemetry"});
+  for (const char* robot : {"r1", "r2"}) {
+    const std::string base = std::string("wheeltec/") + robot;
+    const auto online = late.wait_for(1, base + "/online", 8s);
+    ASSERT_FALSE(online.empty()) << robot;
+    EXPECT_EQ(online.back().payload, "true");
+    EXPECT_FALSE(late.wait_for(1, base + "/status", 3s).empty()) << robot;
+    EXPECT_GE(late.wait_for(5, base + "/telemetry", 3s).size(), 5u) << robot;
+  }
+  CanBus bus1("vcan1");
+  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/drive", R"({"vx":0.1})");
+  EXPECT_TRUE(bus1.wait_for(is_moving_frame, 2s)) << "commands do not work after the restart";
+}
+
+TEST_F(MqttFleet, ADaemonRestartIsFollowed) {
+  r2_->gateway().daemon().terminate();
+  std::this_thread::sleep_for(300ms);
+  r2_->gateway().start_daemon();
+  fleet::Subscription telemetry(*broker_, dir(), {"wheeltec/r2/telemetry"});
+  EXPECT_GE(telemetry.wait_for(5, "", 8s).size(), 5u) << "no telemetry after the daemon restarted";
+  CanBus bus1("vcan1");
+  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/drive", R"({"vx":0.1})");
+  EXPECT_TRUE(bus1.wait_for(is_moving_frame, 2s)) << "commands do not reach the restarted daemon";
+}
+
+TEST_F(MqttFleet, KillNineOfABridgePublishesItsLastWill) {
+  fleet::Subscription online(*broker_, dir(), {"wheeltec/r2/online"});
+  ASSERT_FALSE(online.wait_for(1).empty());
+  r2_->bridge().kill();
+  const auto seen = online.wait_for(2, "", 5s);
+  ASSERT_EQ(seen.size(), 2u) << "no Last Will";
+  EXPECT_EQ(seen[1].payload, "false");
+  fleet::Subscription late(*broker_, dir(), {"wheeltec/r2/online"});
+  const auto retained = late.wait_for(1);
+  ASSERT_EQ(retained.size(), 1u);
+  EXPECT_EQ(retained[0].payload, "false");
+  EXPECT_TRUE(retained[0].retained);
+  // r1 is unaffected.
+  fleet::Subscription r1(*broker_, dir(), {"wheeltec/r1/telemetry"});
+  EXPECT_GE(r1.wait_for(3).size(), 3u);
+  // A drive left retained on the broker while the bridge is away is not executed when the
+  // bridge subscribes again.
+  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/drive", R"({"vx":0.4})", {"-r"});
+  CanBus bus1("vcan1");
+  r2_->start_bridge();
+  wait_online(*r2_);
+  EXPECT_TRUE(bus1.collect(is_moving_frame, 1500ms).empty()) << "a retained drive moved the robot";
+  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/drive", "", {"-r"});  // clears it
+}
+
+}  // namespace
