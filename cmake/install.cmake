@@ -64,7 +64,8 @@ set(CPACK_PACKAGE_DESCRIPTION "wheeltecd drives a WHEELTEC robot chassis over So
 JSON-RPC 2.0 to local clients over a Unix socket, with a systemd service that
 runs it as the unprivileged user wheeltec. wheeltecctl reads status and
 telemetry and drives the robot from the command line; wheeltec-emu emulates
-the chassis controller on a virtual CAN interface.")
+the chassis controller on a virtual CAN interface; wheeltec-mqtt bridges the
+robot to an MQTT broker for a fleet (its service is installed disabled).")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)

@@ -16,7 +16,7 @@
 #include "wheeltec/version.hpp"
 
 #include "link_info.hpp"
-#include "logging.hpp"
+#include "wheeltec/service/logging.hpp"
 #include "stats_report.hpp"
 
 namespace wheeltec::daemon {
@@ -247,7 +247,7 @@ void Gateway::reload() {
   keep(fresh.api.group, config_.api.group, "api.group");
 
   config_ = std::move(fresh);
-  set_log_level(config_.log.level);
+  service::set_log_level(config_.log.level);
   control_.apply(config_);
   chassis_.set_timeout(from_seconds<std::chrono::nanoseconds>(config_.telemetry.timeout_s));
   chassis_.set_low_battery_v(config_.telemetry.low_battery_v);

@@ -16,7 +16,7 @@
 
 #include "access_config.hpp"
 #include "gateway.hpp"
-#include "logging.hpp"
+#include "wheeltec/service/logging.hpp"
 #include "options.hpp"
 #include "startup_error.hpp"
 
@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  setup_logging(config.log.level);
+  service::setup_logging(config.log.level, "wheeltecd");
   try {
     boost::asio::io_context io{1};
     Gateway gateway(io, std::move(options), std::move(config), std::move(*access));

@@ -1,14 +1,8 @@
 #include "options.hpp"
 
-#include <sys/stat.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <iostream>
 #include <iterator>
-#include <sstream>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -17,23 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "wheeltec/command_line.hpp"
+#include "wheeltec/service/config_file.hpp"
 
 namespace wheeltec::daemon {
 namespace {
-
-std::string read_config_file(const std::string& path) {
-  struct stat info {};
-  if (::stat(path.c_str(), &info) != 0) {
-    throw ConfigError(fmt::format("cannot read config file {}: {}", path, std::strerror(errno)));
-  }
-  if (S_ISDIR(info.st_mode)) throw ConfigError(fmt::format("cannot read config file {}: is a directory", path));
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw ConfigError(fmt::format("cannot read config file {}: {}", path, std::strerror(errno)));
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw ConfigError(fmt::format("cannot read config file {}: read error", path));
-  return text.str();
-}
 
 // The flags as a config document, so that the library checks them like file values.
 nlohmann::json flags_as_config(const Options& options) {
@@ -89,17 +70,14 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
 }
 
 std::optional<std::string> config_file_to_load(const Options& options) {
-  if (options.config_file) return options.config_file;
-  struct stat info {};
-  if (::stat(kDefaultConfigFile, &info) == 0) return std::string(kDefaultConfigFile);
-  return std::nullopt;
+  return service::config_file_to_load(options.config_file, kDefaultConfigFile);
 }
 
 GatewayConfig load_config(const Options& options) {
   GatewayConfig config;
   const std::optional<std::string> file = config_file_to_load(options);
   if (file) {
-    const std::string text = read_config_file(*file);
+    const std::string text = service::read_config_file(*file);
     try {
       apply_config(parse_config_document(text), config);
     } catch (const ConfigError& error) {

@@ -11,7 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "bridge.hpp"
-#include "logging.hpp"
+#include "wheeltec/service/logging.hpp"
 #include "options.hpp"
 
 int main(int argc, char** argv) {
@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  wheeltec::daemon::setup_logging(config.log.level, "wheeltec-mqtt");
+  wheeltec::service::setup_logging(config.log.level, "wheeltec-mqtt");
   try {
     boost::asio::io_context io{1};
     Bridge bridge(io, std::move(config));

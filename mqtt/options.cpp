@@ -1,51 +1,25 @@
 #include "options.hpp"
 
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <climits>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "wheeltec/client/connection.hpp"
 #include "wheeltec/command_line.hpp"
+#include "wheeltec/service/config_file.hpp"
 
 #include "topics.hpp"
 
 namespace wheeltec::mqtt {
 namespace {
-
-std::string read_private_file(const std::string& path) {
-  struct stat info {};
-  if (::stat(path.c_str(), &info) != 0) {
-    throw ConfigError(fmt::format("cannot read config file {}: {}", path, std::strerror(errno)));
-  }
-  if (!S_ISREG(info.st_mode)) throw ConfigError(fmt::format("cannot read config file {}: not a regular file", path));
-  if ((info.st_mode & (S_IROTH | S_IWOTH)) != 0) {
-    throw ConfigError(fmt::format("config file {} is readable or writable by others (mode {:04o}); it may hold the "
-                                  "broker's password: chmod o-rw {}",
-                                  path, info.st_mode & 07777, path));
-  }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw ConfigError(fmt::format("cannot read config file {}: {}", path, std::strerror(errno)));
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw ConfigError(fmt::format("cannot read config file {}: read error", path));
-  return text.str();
-}
-
-std::optional<std::string> config_file_to_load(const Options& options) {
-  if (options.config_file) return options.config_file;
-  struct stat info {};
-  if (::stat(kDefaultConfigFile, &info) == 0) return std::string(kDefaultConfigFile);
-  return std::nullopt;
-}
 
 std::string host_name() {
   char name[HOST_NAME_MAX + 1] = {};
@@ -67,9 +41,10 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
   app.add_option("--robot", options.robot, "Robot name, the topic level under the prefix; default the host name")
       ->type_name("NAME");
   app.add_option("--prefix", options.prefix, "Topic prefix, default wheeltec")->type_name("PREFIX");
+  const std::vector<std::string> log_levels(kLogLevels.begin(), kLogLevels.end());
   app.add_option("--log-level", options.log_level, "Log level, overrides log.level")
-      ->type_name("trace|debug|info|warn|error")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}).description(""));
+      ->type_name(fmt::format("{}", fmt::join(log_levels, "|")))
+      ->check(CLI::IsMember(log_levels).description(""));
   if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
   return options;
 }
@@ -77,9 +52,9 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
 BridgeConfig load_config(const Options& options) {
   BridgeConfig config;
   config.socket = client::socket_path_from_environment();  // as wheeltecctl finds it
-  const std::optional<std::string> file = config_file_to_load(options);
+  const std::optional<std::string> file = service::config_file_to_load(options.config_file, kDefaultConfigFile);
   if (file) {
-    const std::string text = read_private_file(*file);
+    const std::string text = service::read_config_file(*file, service::ConfigSecrecy::private_);
     try {
       apply_bridge_config(parse_config_document(text), config);
       validate_bridge_config(config);

@@ -23,6 +23,10 @@ expect_file() {  # PATH MODE
 expect_file usr/bin/wheeltecd -rwxr-xr-x
 expect_file usr/bin/wheeltecctl -rwxr-xr-x
 expect_file usr/bin/wheeltec-emu -rwxr-xr-x
+expect_file usr/bin/wheeltec-mqtt -rwxr-xr-x
+expect_file usr/lib/systemd/system/wheeltec-mqtt.service -rw-r--r--
+expect_file usr/share/man/man1/wheeltec-mqtt.1.gz -rw-r--r--
+expect_file usr/share/doc/wheeltec-gateway/fleet.md -rw-r--r--
 expect_file usr/lib/systemd/system/wheeltecd.service -rw-r--r--
 expect_file usr/lib/systemd/network/80-wheeltec-can.network -rw-r--r--
 expect_file etc/wheeltecd/wheeltecd.json -rw-r--r--
@@ -52,6 +56,11 @@ fi
 for script in postinst prerm postrm; do sh -n "$work/control/$script" || fail "$script: syntax error"; done
 grep -q 'deb-systemd-invoke restart' "$work/control/postinst" || fail "postinst does not restart the service on upgrade"
 grep -q 'purge' "$work/control/postrm" || fail "postrm does not handle purge"
+for unit in wheeltecd.service wheeltec-mqtt.service; do
+  grep -q "$unit" "$work/control/postinst" || fail "postinst does not record or restart $unit"
+  grep -q "$unit" "$work/control/prerm" || fail "prerm does not stop $unit"
+  grep -q "$unit" "$work/control/postrm" || fail "postrm does not purge $unit"
+done
 
 # The man pages render without warnings.
 dpkg-deb -x "$deb" "$work/root"

@@ -1,4 +1,4 @@
-#include "logging.hpp"
+#include "wheeltec/service/logging.hpp"
 
 #include <sys/stat.h>
 
@@ -10,7 +10,7 @@
 #include <spdlog/sinks/systemd_sink.h>
 #include <spdlog/spdlog.h>
 
-namespace wheeltec::daemon {
+namespace wheeltec::service {
 namespace {
 
 // JOURNAL_STREAM is "<device>:<inode>" of the journal stream systemd gave us; it is only
@@ -45,4 +45,4 @@ void setup_logging(const std::string& level, const std::string& program) {
 
 void set_log_level(const std::string& level) { spdlog::set_level(spdlog::level::from_str(level)); }
 
-}  // namespace wheeltec::daemon
+}  // namespace wheeltec::service
