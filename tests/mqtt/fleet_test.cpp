@@ -32,7 +32,8 @@ class MqttFleet : public ::testing::Test {
     broker_ = new fleet::Broker(directory_->path());
     broker_->start();
     r1_ = new fleet::Robot(*directory_ / "r1", "r1", "vcan0", *broker_);
-    r2_ = new fleet::Robot(*directory_ / "r2", "r2", "vcan1", *broker_);
+    // r2 queues at most 5 records while the broker is away (ABrokerRestartIsSurvived).
+    r2_ = new fleet::Robot(*directory_ / "r2", "r2", "vcan1", *broker_, {{"telemetry", {{"queue_limit", 5}}}});
     r1_->start();
     r2_->start();
     wait_online(*r1_);
@@ -228,7 +229,7 @@ TEST_F(MqttFleet, KillingTheBrokerWhileARobotDrivesStopsItWithinTheDeadman) {
 
 TEST_F(MqttFleet, ABrokerRestartIsSurvived) {
   broker_->kill(SIGTERM);
-  std::this_thread::sleep_for(500ms);
+  std::this_thread::sleep_for(1500ms);  // 30 records at 20 Hz
   broker_->start();
   // The restarted broker kept nothing: online and status are there again because the
   // bridges published them after reconnecting.
@@ -244,6 +245,20 @@ TEST_F(MqttFleet, ABrokerRestartIsSurvived) {
   CanBus bus1("vcan1");
   fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/drive", R"({"vx":0.1})");
   EXPECT_TRUE(bus1.wait_for(is_moving_frame, 2s)) << "commands do not work after the restart";
+
+  // While the broker was away r2 kept at most its queue_limit (5) records and counted the
+  // rest as dropped; r1 (1000) kept them all.
+  fleet::Subscription stats(*broker_, dir(), {"wheeltec/r1/stats", "wheeltec/r2/stats"});
+  const auto r1_stats = stats.wait_for(1, "wheeltec/r1/stats", 5s);
+  const auto r2_stats = stats.wait_for(1, "wheeltec/r2/stats", 5s);
+  ASSERT_FALSE(r1_stats.empty() || r2_stats.empty()) << "no stats after the restart";
+  const Json r1_bridge = Json::parse(r1_stats.back().payload)["bridge"];
+  const Json r2_bridge = Json::parse(r2_stats.back().payload)["bridge"];
+  std::cout << "after 1.5 s without a broker: r1 dropped " << r1_bridge["telemetry_dropped"] << ", r2 dropped "
+            << r2_bridge["telemetry_dropped"] << "\n";
+  EXPECT_EQ(r1_bridge["telemetry_dropped"], 0) << r1_bridge.dump();
+  EXPECT_GE(r2_bridge["telemetry_dropped"].get<int>(), 15) << r2_bridge.dump();
+  EXPECT_LE(r2_bridge["telemetry_queued"].get<int>(), 5) << r2_bridge.dump();
 }
 
 TEST_F(MqttFleet, ADaemonRestartIsFollowed) {
