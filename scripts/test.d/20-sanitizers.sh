@@ -22,11 +22,13 @@ reports=$prefix-reports
 rm -rf -- "$reports"
 mkdir -p "$reports"
 
+# -O1 -g1 (line tables only): the build is the stage's longest part, and a report needs
+# no more than function names and lines.
 configure_and_build_with() {
   local dir=$1 flags=$2
   shift 2
-  cmake -S "$REPO_ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS="$flags -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
+  cmake -S "$REPO_ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE= \
+    -DCMAKE_CXX_FLAGS="$flags -O1 -g1 -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
     -DCMAKE_EXE_LINKER_FLAGS="$flags" -DWHEELTEC_BUILD_BENCHMARKS=OFF -DWHEELTEC_BUILD_FUZZERS=OFF >/dev/null
   cmake --build "$dir" -j "$jobs" --target "$@"
 }
@@ -37,6 +39,7 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:dete
 failed=0
 build=$prefix
 targets=(unit_tests)
+[[ -f $BUILD_DIR/tests/mqtt/mqtt_unit_tests ]] && targets+=(mqtt_unit_tests)
 if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
   vcan=native
   targets+=(integration_tests)
@@ -47,6 +50,9 @@ echo "sanitizers: ASan, LSan and UBSan build of ${targets[*]} in $build"
 configure_and_build_with "$build" "-fsanitize=address,undefined" "${targets[@]}"
 echo "sanitizers: unit tests"
 "$build/tests/unit/unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
+if [[ " ${targets[*]} " == *" mqtt_unit_tests "* ]]; then
+  "$build/tests/mqtt/mqtt_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
+fi
 if [[ $vcan == native ]]; then
   echo "sanitizers: command-line integration tests"
   "$build/tests/integration/integration_tests" --gtest_filter='CommandLine.*:EmulatorCommandLine.*' --gtest_color=no \
