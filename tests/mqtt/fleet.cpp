@@ -47,9 +47,7 @@ bool accepts_connections(int port) {
   return connected;
 }
 
-std::vector<std::string> broker_arguments(const Broker& broker) {
-  return {"-h", "127.0.0.1", "-p", std::to_string(broker.port())};
-}
+std::vector<std::string> broker_arguments(const Broker& broker) { return broker.client_arguments(); }
 
 }  // namespace
 
@@ -59,11 +57,21 @@ std::filesystem::path bridge_program() {
   return WHEELTEC_MQTT_PATH;
 }
 
-Broker::Broker(std::filesystem::path directory) : directory_(std::move(directory)), port_(free_port()) {
-  std::ofstream(directory_ / "mosquitto.conf") << "listener " << port_ << " 127.0.0.1\n"
-                                               << "allow_anonymous true\n"
-                                               << "persistence false\n"
-                                               << "log_dest stderr\n";
+Broker::Broker(std::filesystem::path directory, const std::vector<std::string>& listener_options,
+               std::vector<std::string> client_arguments)
+    : directory_(std::move(directory)), port_(free_port()), client_arguments_(std::move(client_arguments)) {
+  std::ofstream config(directory_ / "mosquitto.conf");
+  config << "listener " << port_ << " 127.0.0.1\n"
+         << "allow_anonymous true\n"
+         << "persistence false\n"
+         << "log_dest stderr\n";
+  for (const auto& line : listener_options) config << line << "\n";
+}
+
+std::vector<std::string> Broker::client_arguments() const {
+  std::vector<std::string> arguments{"-h", "127.0.0.1", "-p", std::to_string(port_)};
+  arguments.insert(arguments.end(), client_arguments_.begin(), client_arguments_.end());
+  return arguments;
 }
 
 Broker::~Broker() {

@@ -24,10 +24,13 @@ using integration::ChildProcess;
 std::filesystem::path bridge_program();
 
 // mosquitto on a free port of 127.0.0.1, anonymous clients allowed, no persistence (so a
-// restart forgets retained messages, as the bridge must expect).
+// restart forgets retained messages, as the bridge must expect). `listener_options` are
+// further lines of its config (TLS), `client_arguments` what mosquitto_sub and
+// mosquitto_pub then need to connect (--cafile, --cert, --key).
 class Broker {
  public:
-  explicit Broker(std::filesystem::path directory);
+  explicit Broker(std::filesystem::path directory, const std::vector<std::string>& listener_options = {},
+                  std::vector<std::string> client_arguments = {});
   ~Broker();
   void start();  // on the same port each time; waits until it accepts connections
   void kill(int signal);
@@ -35,10 +38,13 @@ class Broker {
   int port() const { return port_; }
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
   std::string logs() const;
+  // -h, -p and the client_arguments, for mosquitto_sub and mosquitto_pub.
+  std::vector<std::string> client_arguments() const;
 
  private:
   std::filesystem::path directory_;
   int port_;
+  std::vector<std::string> client_arguments_;
   int starts_ = 0;
   std::unique_ptr<ChildProcess> process_;
 };
