@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Test stage: the benchmarks still build and run. Each microbenchmark runs for a few
-# milliseconds and must not report an error; nothing is timed or compared here (the
-# figures come from scripts/bench.sh, see docs/performance.md).
+# milliseconds and must not report an error, and the wheeltec-mqtt benchmark runs once in
+# its quick mode (inside scripts/vcan-run, with mosquitto) and must report its figures;
+# nothing is timed or compared here (the figures come from scripts/bench.sh and
+# scripts/bench-mqtt.sh, see docs/performance.md).
 set -euo pipefail
 
 REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
@@ -17,7 +19,8 @@ cmake --build "$BUILD_DIR" --target wheeltec-microbench wheeltec-bench-fanout wh
 
 out=$(mktemp)
 fanout=$(mktemp)
-trap 'rm -f "$out" "$fanout"' EXIT
+mqtt_out=$(mktemp -d)
+trap 'rm -f "$out" "$fanout"; rm -rf "$mqtt_out"' EXIT
 "$BUILD_DIR/bench/wheeltec-microbench" --benchmark_min_time=0.01 --benchmark_format=json >"$out"
 python3 - "$out" <<'PY'
 import json, sys
@@ -46,4 +49,34 @@ for name in ("wheeltecd", "floor"):
     if step["notifications_received"] == 0:
         sys.exit(f"bench smoke: the fan-out benchmark's {name} delivered no notification: {step}")
 print("bench smoke: fan-out benchmark ran (wheeltecd and relay floor delivered telemetry)")
+PY
+
+# The wheeltec-mqtt benchmark's quick mode (about 30 s): one robot's latencies and CPU per
+# record, then 1 and 2 robots against one broker. Every figure must be there; none is compared.
+if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$mqtt_out "$REPO_ROOT/scripts/bench-mqtt.sh" --quick >"$mqtt_out/output.txt" 2>&1; then
+  cat "$mqtt_out/output.txt" >&2
+  echo "bench smoke: scripts/bench-mqtt.sh --quick failed" >&2
+  exit 1
+fi
+python3 - "$mqtt_out/mqtt.json" <<'PY'
+import json, sys
+try:
+    m = json.load(open(sys.argv[1]))
+except (OSError, ValueError) as problem:
+    sys.exit(f"bench smoke: the wheeltec-mqtt benchmark wrote no figures: {problem}")
+problems = list(m.get("errors", []))
+figures = {
+    "drives over MQTT": m["drives"]["via_mqtt"]["count"],
+    "drives on the daemon's socket": m["drives"]["direct_wheeltecd"]["count"],
+    "telemetry records matched at the MQTT subscriber": m["telemetry"]["via_mqtt"]["count"],
+    "telemetry records matched at the direct subscriber": m["telemetry"]["direct_wheeltecd_subscriber"]["count"],
+    "records published in the CPU window": m["cpu_per_record"]["records_published"],
+    "scaling steps": len(m["scaling"]),
+}
+problems += [f"no {name}" for name, value in figures.items() if not value]
+problems += [f"{s['robots']} robots: nothing delivered" for s in m["scaling"] if not s["delivered"]]
+if problems:
+    sys.exit("bench smoke: wheeltec-mqtt benchmark: " + "; ".join(problems))
+print(f"bench smoke: wheeltec-mqtt benchmark ran ({m['elapsed_s']:.0f} s inside the VM; "
+      f"{len(m['scaling'])} scaling steps)")
 PY

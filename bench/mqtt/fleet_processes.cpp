@@ -1,0 +1,134 @@
+#include "fleet_processes.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <stdexcept>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+namespace bench {
+namespace {
+
+int free_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  if (fd < 0 || ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
+      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+    throw std::runtime_error("no free TCP port on 127.0.0.1");
+  }
+  ::close(fd);
+  return ntohs(address.sin_port);
+}
+
+bool accepts_connections(int port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  address.sin_port = htons(static_cast<std::uint16_t>(port));
+  const bool connected = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
+  ::close(fd);
+  return connected;
+}
+
+}  // namespace
+
+Broker::Broker(const std::string& mosquitto, const std::filesystem::path& directory,
+               const std::vector<std::string>& extra_config)
+    : port_(free_port()) {
+  const auto config = directory / "mosquitto.conf";
+  {
+    std::ofstream out(config);
+    out << "listener " << port_ << " 127.0.0.1\n"
+        << "allow_anonymous true\n"
+        << "persistence false\n"
+        << "log_dest stderr\n"
+        << "log_type error\nlog_type warning\nlog_type notice\n";
+    for (const auto& line : extra_config) out << line << "\n";
+  }
+  process_ = std::make_unique<ChildProgram>("mosquitto", std::vector<std::string>{mosquitto, "-c", config.string()},
+                                            directory);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!accepts_connections(port_)) {
+    if (!process_->running()) throw std::runtime_error("mosquitto ended at start-up:\n" + process_->log_tail());
+    if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("mosquitto did not start within 20 s");
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+Robot::Robot(const FleetPrograms& programs, std::filesystem::path directory, std::string name, std::string interface)
+    : programs_(programs),
+      directory_(std::move(directory)),
+      name_(std::move(name)),
+      interface_(std::move(interface)),
+      socket_(directory_ / "wheeltecd.sock") {
+  std::filesystem::create_directories(directory_);
+  // As the integration tests' Gateway configures the daemon.
+  const nlohmann::json daemon_config = {
+      {"can", {{"interface", interface_}, {"dialect", "manual"}}},
+      {"chassis", {{"type", "mecanum"}}},
+      {"control", {{"rate_hz", 20}, {"command_timeout_s", 0.5}, {"enable_refresh_s", 1.0}}},
+      {"telemetry", {{"timeout_s", 0.5}}},
+      {"api", {{"socket", socket_.string()}}},
+      {"log", {{"level", "warn"}}},
+  };
+  std::ofstream(directory_ / "wheeltecd.json") << daemon_config.dump(2) << "\n";
+  // stats every second, so that its counters are fresh at the end of each window.
+  const nlohmann::json bridge_config = {{"stats", {{"period_s", 1}}},
+                                        {"broker", {{"reconnect_min_s", 0.2}, {"reconnect_max_s", 1}}}};
+  const auto bridge_config_path = directory_ / "wheeltec-mqtt.json";
+  std::ofstream(bridge_config_path) << bridge_config.dump(2) << "\n";
+  ::chmod(bridge_config_path.c_str(), 0600);  // the bridge refuses a config file that others may read
+}
+
+void Robot::start_emulator() {
+  emulator_ = std::make_unique<ChildProgram>(
+      "wheeltec-emu",
+      std::vector<std::string>{programs_.emulator, "--interface", interface_, "--chassis", "mecanum", "--boot-delay",
+                               "0", "--battery", "22.5", "--no-self-test"},
+      directory_);
+}
+
+void Robot::start_daemon() {
+  daemon_ = std::make_unique<ChildProgram>(
+      "wheeltecd", std::vector<std::string>{programs_.wheeltecd, "--config", (directory_ / "wheeltecd.json").string()},
+      directory_);
+  daemon_->wait_for_socket(socket_, 30);
+}
+
+void Robot::start_bridge(int broker_port) {
+  bridge_ = std::make_unique<ChildProgram>(
+      "wheeltec-mqtt",
+      std::vector<std::string>{programs_.bridge, "--config", (directory_ / "wheeltec-mqtt.json").string(), "--socket",
+                               socket_.string(), "--broker", "127.0.0.1:" + std::to_string(broker_port), "--robot",
+                               name_, "--log-level", "info"},
+      directory_);
+}
+
+std::vector<std::string> Robot::ended() {
+  std::vector<std::string> names;
+  if (emulator_ && !emulator_->running()) names.push_back(name_ + "'s wheeltec-emu");
+  if (daemon_ && !daemon_->running()) names.push_back(name_ + "'s wheeltecd");
+  if (bridge_ && !bridge_->running()) names.push_back(name_ + "'s wheeltec-mqtt");
+  return names;
+}
+
+std::string Robot::logs() const {
+  std::string text;
+  if (emulator_) text += "--- " + name_ + " wheeltec-emu:\n" + emulator_->log_tail();
+  if (daemon_) text += "--- " + name_ + " wheeltecd:\n" + daemon_->log_tail();
+  if (bridge_) text += "--- " + name_ + " wheeltec-mqtt:\n" + bridge_->log_tail();
+  return text;
+}
+
+}  // namespace bench

@@ -1,0 +1,69 @@
+#pragma once
+
+// The programs of the fleet under measurement: one mosquitto broker on 127.0.0.1, and per
+// robot a wheeltec-emu, a wheeltecd and a wheeltec-mqtt on its own vcan interface, each
+// with its files (configuration, socket, log) in a directory of its own.
+
+#include <sys/types.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "child_program.hpp"
+
+namespace bench {
+
+struct FleetPrograms {
+  std::string wheeltecd;
+  std::string emulator;
+  std::string bridge;
+  std::string mosquitto;
+};
+
+class Broker {
+ public:
+  // Starts mosquitto on a free port of 127.0.0.1 (anonymous, no persistence, and the
+  // `extra_config` lines) and waits until it accepts connections.
+  Broker(const std::string& mosquitto, const std::filesystem::path& directory,
+         const std::vector<std::string>& extra_config = {});
+  int port() const { return port_; }
+  pid_t pid() const { return process_->pid(); }
+  bool running() { return process_->running(); }
+  std::string log_tail() const { return process_->log_tail(); }
+
+ private:
+  int port_;
+  std::unique_ptr<ChildProgram> process_;
+};
+
+class Robot {
+ public:
+  Robot(const FleetPrograms& programs, std::filesystem::path directory, std::string name, std::string interface);
+  void start_emulator();
+  void start_daemon();  // returns once its socket accepts connections
+  void start_bridge(int broker_port);
+
+  const std::string& name() const { return name_; }
+  const std::string& interface() const { return interface_; }
+  const std::filesystem::path& socket() const { return socket_; }
+  ChildProgram& emulator() { return *emulator_; }
+  ChildProgram& daemon() { return *daemon_; }
+  ChildProgram& bridge() { return *bridge_; }
+  // Which of its programs are not running (empty: all are).
+  std::vector<std::string> ended();
+  std::string logs() const;
+
+ private:
+  FleetPrograms programs_;
+  std::filesystem::path directory_;
+  std::string name_;
+  std::string interface_;
+  std::filesystem::path socket_;
+  std::unique_ptr<ChildProgram> emulator_;
+  std::unique_ptr<ChildProgram> daemon_;
+  std::unique_ptr<ChildProgram> bridge_;
+};
+
+}  // namespace bench

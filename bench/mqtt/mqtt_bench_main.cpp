@@ -1,0 +1,891 @@
+// wheeltec-bench-mqtt: figures of wheeltec-mqtt, the fleet bridge (issue #15), with a real
+// mosquitto broker, the emulator and wheeltecd, on vcan interfaces (run it through
+// scripts/vcan-run; scripts/bench-mqtt.sh does). Not a test: it prints figures.
+//
+//  1. Command latency: a drive published on the broker (by this program's own libmosquitto
+//     client) to the first 0x121 frame carrying its velocity on the bus (kernel receive
+//     timestamp), next to the same drive written on wheeltecd's socket directly, in
+//     alternating blocks.
+//  2. Telemetry latency: the 0x103 frame on the bus (kernel receive timestamp, which is also
+//     the record's `time`) to this program's MQTT subscriber receiving that record, matched
+//     by `time`; next to a direct subscriber of the same wheeltecd.
+//  3. The bridge's CPU per record: utime+stime from /proc over the telemetry window divided
+//     by the records it published in it (and the daemon's and broker's, for comparison).
+//  4. Scaling: N robots against one broker, one subscriber of PREFIX/+/telemetry: records
+//     delivered per second and lost, until loss appears or the virtual machine runs out.
+// Prints markdown tables on stdout and writes every figure as JSON (--json).
+
+#include <poll.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/asio_can/frame_io.hpp"
+
+#include "bench_clock.hpp"
+#include "bus_observer.hpp"
+#include "can_endpoint.hpp"
+#include "fleet_processes.hpp"
+#include "latency_stats.hpp"
+#include "mqtt_endpoints.hpp"
+#include "process_profile.hpp"
+#include "subscriber_set.hpp"
+
+namespace {
+
+using nlohmann::json;
+using namespace bench;
+namespace fs = std::filesystem;
+using std::chrono::milliseconds;
+
+constexpr double kTelemetryHz = 20.0;  // the emulator's (and the stock firmware's) record rate
+constexpr const char* kPrefix = "wheeltec";
+
+struct Settings {
+  FleetPrograms programs{"", "", "", "/usr/sbin/mosquitto"};
+  std::string json_path;
+  std::string work_dir;  // default: a new directory in /tmp, removed at the end
+  double telemetry_s = 20.0;
+  int drives = 300;  // over the broker, and as many on the daemon's socket
+  int drive_block = 50;
+  double drive_interval_ms = 100.0;  // an operator's tool repeating its drive at 10 Hz
+  std::vector<int> robots{1, 2, 4, 8, 16};
+  double step_s = 10.0;
+  bool keep_going = false;  // scaling: go on after a step that lost records
+  int run_all_up_to = 8;    // scaling: steps of up to this many robots run even after a lossy one
+  bool quick = false;
+  bool operator_nodelay = false;            // the benchmark's publisher sets TCP_NODELAY
+  std::vector<std::string> broker_config;  // more lines of mosquitto.conf
+  std::string strace;                      // given: system calls per record counted (bridge, broker)
+};
+
+void usage() {
+  std::cout << "usage: wheeltec-bench-mqtt --wheeltecd PATH --emulator PATH --bridge PATH [--mosquitto PATH]\n"
+               "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
+               "       [--drive-interval-ms MS] [--robots 1,2,4,8,16] [--step-seconds S] [--keep-going]\n"
+               "       [--operator-nodelay] [--broker-config 'MOSQUITTO.CONF LINE']... [--strace PATH]\n"
+               "Scaling: the steps of up to 8 robots (--quick: 2) always run; after them, a step that lost records or\n"
+               "found the machine 95 % busy is the last (--keep-going: every step).\n"
+               "Runs where vcan0..vcanN-1 exist (scripts/vcan-run with VCAN_INTERFACES); see scripts/bench-mqtt.sh.\n";
+}
+
+std::vector<int> parse_list(const std::string& text) {
+  std::vector<int> values;
+  std::istringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    const int value = std::stoi(item);
+    if (value < 1) throw std::invalid_argument("--robots: counts must be at least 1");
+    values.push_back(value);
+  }
+  if (values.empty()) throw std::invalid_argument("--robots: empty");
+  return values;
+}
+
+Settings parse_arguments(int argc, char** argv) {
+  Settings s;
+  bool robots_given = false, step_given = false, telemetry_given = false, drives_given = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string key = argv[i];
+    if (key == "--help" || key == "-h") {
+      usage();
+      std::exit(0);
+    }
+    if (key == "--quick") {
+      s.quick = true;
+      continue;
+    }
+    if (key == "--keep-going" || key == "--operator-nodelay") {
+      (key == "--keep-going" ? s.keep_going : s.operator_nodelay) = true;
+      continue;
+    }
+    if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
+    const std::string value = argv[++i];
+    if (key == "--wheeltecd") s.programs.wheeltecd = value;
+    else if (key == "--emulator") s.programs.emulator = value;
+    else if (key == "--bridge") s.programs.bridge = value;
+    else if (key == "--mosquitto") s.programs.mosquitto = value;
+    else if (key == "--json") s.json_path = value;
+    else if (key == "--work-dir") s.work_dir = value;
+    else if (key == "--telemetry-seconds") s.telemetry_s = std::stod(value), telemetry_given = true;
+    else if (key == "--drives") s.drives = std::stoi(value), drives_given = true;
+    else if (key == "--drive-interval-ms") s.drive_interval_ms = std::stod(value);
+    else if (key == "--robots") s.robots = parse_list(value), robots_given = true;
+    else if (key == "--step-seconds") s.step_s = std::stod(value), step_given = true;
+    else if (key == "--broker-config") s.broker_config.push_back(value);
+    else if (key == "--strace") s.strace = value;
+    else throw std::invalid_argument("unknown option " + key);
+  }
+  if (s.quick) {
+    if (!telemetry_given) s.telemetry_s = 3.0;
+    if (!drives_given) s.drives = 40;
+    if (!robots_given) s.robots = {1, 2};
+    if (!step_given) s.step_s = 3.0;
+    s.drive_block = 20;
+    s.run_all_up_to = 2;
+  }
+  if (s.programs.wheeltecd.empty() || s.programs.emulator.empty() || s.programs.bridge.empty()) {
+    throw std::invalid_argument("--wheeltecd, --emulator and --bridge are required");
+  }
+  if (s.drives < 2 || s.telemetry_s <= 0 || s.step_s <= 0) throw std::invalid_argument("nothing to measure");
+  return s;
+}
+
+std::string robot_name(std::size_t index) { return "r" + std::to_string(index + 1); }
+std::string interface_name(std::size_t index) { return "vcan" + std::to_string(index); }
+
+void sleep_ms(double ms) { std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(ms * 1000))); }
+
+// ---- what the subscriber received, by robot ----
+
+struct TelemetryReceipt {
+  std::int64_t time_us;      // the record's `time`: the bus timestamp of its 0x103 frame
+  std::int64_t received_ns;  // when the subscriber's callback ran
+  std::int64_t seq;          // the daemon's count of accepted records
+};
+
+struct StatsReceipt {
+  json stats;
+  std::int64_t received_ns;
+};
+
+struct RobotReceipts {
+  std::vector<TelemetryReceipt> telemetry;
+  std::vector<StatsReceipt> stats;
+  std::size_t unreadable = 0;  // telemetry without a `time`
+};
+
+class Receipts {
+ public:
+  explicit Receipts(MqttSubscriber& subscriber) : subscriber_(subscriber) {}
+
+  // Files what the subscriber got since the last call.
+  void absorb() {
+    for (auto& message : subscriber_.take()) {
+      // PREFIX/ROBOT/LEAF...
+      const auto first = message.topic.find('/');
+      const auto second = message.topic.find('/', first + 1);
+      if (first == std::string::npos || second == std::string::npos) continue;
+      const std::string robot = message.topic.substr(first + 1, second - first - 1);
+      const std::string leaf = message.topic.substr(second + 1);
+      auto& receipts = robots_[robot];
+      if (leaf == "telemetry") {
+        if (auto time = record_time_us(message.payload)) {
+          receipts.telemetry.push_back({*time, message.received_ns, record_seq(message.payload).value_or(-1)});
+        } else {
+          ++receipts.unreadable;
+        }
+      } else if (leaf == "stats") {
+        try {
+          receipts.stats.push_back({json::parse(message.payload), message.received_ns});
+        } catch (const json::exception&) {
+        }
+      } else if (leaf == "cmd/result") {
+        try {
+          results_.push_back(json::parse(message.payload));
+        } catch (const json::exception&) {
+          results_.push_back(json{{"unparsable", message.payload}});
+        }
+      }
+    }
+  }
+
+  RobotReceipts& robot(const std::string& name) { return robots_[name]; }
+  std::vector<json>& results() { return results_; }
+
+  // Waits until `name` has published telemetry; false after timeout.
+  bool wait_for_telemetry(const std::string& name, milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      absorb();
+      if (!robots_[name].telemetry.empty()) return true;
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      sleep_ms(20);
+    }
+  }
+
+  // Sleeps for `ms`, filing what arrives meanwhile.
+  void wait(double ms) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::microseconds(static_cast<long long>(ms * 1000));
+    for (;;) {
+      absorb();
+      const auto left = end - std::chrono::steady_clock::now();
+      if (left <= std::chrono::steady_clock::duration::zero()) return;
+      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(left, milliseconds(100)));
+    }
+  }
+
+ private:
+  MqttSubscriber& subscriber_;
+  std::map<std::string, RobotReceipts> robots_;
+  std::vector<json> results_;
+};
+
+// ---- telemetry: bus frames matched with what a subscriber received ----
+
+struct TelemetryMatch {
+  std::size_t on_bus = 0;     // 0x103 frames in the window
+  std::size_t delivered = 0;  // of those, records the subscriber received
+  std::vector<double> latency_us;
+  std::vector<std::int64_t> missing_ns;  // bus timestamps of the frames whose record did not arrive
+  std::size_t lost() const { return on_bus - delivered; }
+};
+
+// `receipts`: (record time in us, received at ns). Frames with a kernel timestamp in
+// [from_ns, to_ns) count.
+TelemetryMatch match_records(const std::vector<std::int64_t>& frames_ns,
+                             const std::vector<std::pair<std::int64_t, std::int64_t>>& receipts, std::int64_t from_ns,
+                             std::int64_t to_ns) {
+  std::unordered_map<std::int64_t, std::int64_t> by_time;
+  by_time.reserve(receipts.size());
+  for (const auto& [time_us, received_ns] : receipts) by_time.emplace(time_us, received_ns);
+  TelemetryMatch match;
+  for (const std::int64_t frame_ns : frames_ns) {
+    if (frame_ns < from_ns || frame_ns >= to_ns) continue;
+    ++match.on_bus;
+    const std::int64_t key = frame_ns / 1000;  // the daemon writes `time` truncated to the microsecond
+    bool found_it = false;
+    for (const std::int64_t candidate : {key, key - 1, key + 1}) {
+      const auto found = by_time.find(candidate);
+      if (found == by_time.end()) continue;
+      ++match.delivered;
+      match.latency_us.push_back(static_cast<double>(found->second - frame_ns) / 1e3);
+      found_it = true;
+      break;
+    }
+    if (!found_it) match.missing_ns.push_back(frame_ns);
+  }
+  return match;
+}
+
+// Where the missing records were lost, from the `seq` of the records received around each:
+// consecutive numbers mean that wheeltecd never accepted a record for that frame; a gap in
+// them, that it did and the record was lost on its way (bridge, broker, subscriber).
+struct LossSplit {
+  std::size_t not_accepted = 0, after_daemon = 0, unknown = 0;
+};
+
+LossSplit split_losses(const std::vector<std::int64_t>& missing_ns, std::vector<TelemetryReceipt> receipts) {
+  std::sort(receipts.begin(), receipts.end(), [](const auto& a, const auto& b) { return a.time_us < b.time_us; });
+  LossSplit split;
+  for (const std::int64_t frame_ns : missing_ns) {
+    const auto next = std::lower_bound(receipts.begin(), receipts.end(), frame_ns / 1000,
+                                       [](const TelemetryReceipt& r, std::int64_t us) { return r.time_us < us; });
+    if (next == receipts.begin() || next == receipts.end() || next->seq < 0 || std::prev(next)->seq < 0) {
+      ++split.unknown;
+    } else if (next->seq - std::prev(next)->seq >= 2) {
+      ++split.after_daemon;
+    } else {
+      ++split.not_accepted;
+    }
+  }
+  return split;
+}
+
+std::vector<std::pair<std::int64_t, std::int64_t>> pairs_of(const std::vector<TelemetryReceipt>& receipts) {
+  std::vector<std::pair<std::int64_t, std::int64_t>> pairs;
+  pairs.reserve(receipts.size());
+  for (const auto& receipt : receipts) pairs.emplace_back(receipt.time_us, receipt.received_ns);
+  return pairs;
+}
+
+// Every sample, rounded to the microsecond, for a closer look at a distribution.
+json samples_json(std::vector<double> samples_us) {
+  for (auto& sample : samples_us) sample = std::round(sample);
+  return samples_us;
+}
+
+json match_json(const TelemetryMatch& match, bool with_samples = false) {
+  json j = summarize(match.latency_us).to_json();
+  if (with_samples) j["samples_us"] = samples_json(match.latency_us);
+  j["on_bus"] = match.on_bus;
+  j["delivered"] = match.delivered;
+  j["lost"] = match.lost();
+  return j;
+}
+
+// ---- CPU from /proc ----
+
+struct MachineCpu {
+  unsigned long long busy = 0, total = 0;  // jiffies of all CPUs (UML: its one vCPU)
+};
+
+MachineCpu machine_cpu() {
+  std::ifstream stat("/proc/stat");
+  std::string cpu;
+  stat >> cpu;
+  MachineCpu sample;
+  unsigned long long value = 0;
+  for (int field = 0; field < 8 && stat >> value; ++field) {
+    sample.total += value;
+    if (field != 3 && field != 4) sample.busy += value;  // idle and iowait are not busy
+  }
+  return sample;
+}
+
+double cpu_s(pid_t pid) {
+  try {
+    return sample_process(pid).cpu_s;
+  } catch (const std::exception&) {
+    return 0.0;
+  }
+}
+
+// ---- drives ----
+
+struct DriveSeries {
+  std::vector<double> latency_us;
+  int missed = 0;  // no frame with the velocity within 1 s
+  json to_json() const {
+    json j = summarize(latency_us).to_json();
+    j["missed"] = missed;
+    j["samples_us"] = samples_json(latency_us);
+    return j;
+  }
+};
+
+void drain(CanEndpoint& control) {
+  boost::system::error_code ec;
+  while (wheeltec::asio_can::receive_frame(control.fd(), ec)) {
+  }
+}
+
+bool has_enable_prefix(const wheeltec::CanFrame& frame) {
+  static constexpr std::uint8_t prefix[] = {0x0A, 0x0C, 0x0F, 0x13, 0x18, 0x1E, 0x25};
+  return std::equal(std::begin(prefix), std::end(prefix), frame.data.begin());
+}
+
+// The kernel receive time of the first 0x121 velocity frame with vx = mm_per_s, within 1 s.
+std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+  while (std::chrono::steady_clock::now() < deadline) {
+    boost::system::error_code ec;
+    auto received = wheeltec::asio_can::receive_frame(control.fd(), ec);
+    if (!received) {
+      pollfd ready{control.fd(), POLLIN, 0};
+      ::poll(&ready, 1, 50);
+      continue;
+    }
+    const auto& frame = received->frame;
+    if (frame.id != 0x121 || frame.dlc != 8 || has_enable_prefix(frame)) continue;
+    const int x = static_cast<std::int16_t>((frame.data[0] << 8) | frame.data[1]);
+    if (x == mm_per_s) return received->time.time_since_epoch().count();
+  }
+  return std::nullopt;
+}
+
+struct DriveResults {
+  DriveSeries mqtt, direct;
+  std::size_t mqtt_error_replies = 0;
+  std::vector<std::string> first_errors;
+};
+
+// Waits (up to 2 s) for the bridge's reply to the `stop` with this id: control is released then.
+void wait_for_stop_reply(Receipts& receipts, const std::string& id) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  while (std::chrono::steady_clock::now() < deadline) {
+    receipts.absorb();
+    for (const auto& result : receipts.results()) {
+      if (result.value("command", "") == "stop" && result.contains("id") && result["id"] == id) return;
+    }
+    sleep_ms(5);
+  }
+}
+
+DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_port, Receipts& receipts) {
+  CanEndpoint control(robot.interface(), {0x121});
+  MqttPublisher publisher("127.0.0.1", broker_port, "wheeltec-bench-operator", settings.operator_nodelay);
+  const std::string drive_topic = fmt::format("{}/{}/cmd/drive", kPrefix, robot.name());
+  const std::string stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, robot.name());
+  DriveResults results;
+  int id = 0;
+  int mm_direct = 100, mm_mqtt = 300;  // each drive a new target: the daemon sends its frame at once
+  auto next_mm = [](int& mm, int base) { return mm = base + (mm - base + 1) % 100; };
+
+  auto mqtt_drive = [&](bool counted) {
+    const int mm = next_mm(mm_mqtt, 300);
+    drain(control);
+    const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", mm / 1000.0, ++id);
+    const std::int64_t sent = publisher.publish(drive_topic, payload);
+    const auto frame = wait_for_control_frame(control, mm);
+    if (counted) {
+      if (frame) results.mqtt.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
+      else ++results.mqtt.missed;
+    }
+    publisher.service();
+  };
+  auto direct_drive = [&](LineClient& client, bool counted) {
+    const int mm = next_mm(mm_direct, 100);
+    drain(control);
+    const std::string line = fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{:.3f}}}}})",
+                                         ++id, mm / 1000.0);
+    const std::int64_t sent = realtime_ns();
+    client.send_line(line);
+    const auto frame = wait_for_control_frame(control, mm);
+    const std::string reply = client.read_line(2000);
+    if (reply.find("\"result\"") == std::string::npos && results.first_errors.size() < 5) {
+      results.first_errors.push_back("direct drive: " + reply);
+    }
+    if (counted) {
+      if (frame) results.direct.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
+      else ++results.direct.missed;
+    }
+  };
+  auto paced = [&](int count, auto&& one) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < count; ++i) {
+      std::this_thread::sleep_until(start + std::chrono::microseconds(static_cast<long long>(i * settings.drive_interval_ms * 1000)));
+      one();
+    }
+  };
+  auto mqtt_stop = [&] {
+    const std::string stop_id = "stop-" + std::to_string(++id);
+    publisher.publish(stop_topic, fmt::format(R"({{"id":"{}"}})", stop_id));
+    wait_for_stop_reply(receipts, stop_id);
+    publisher.service();
+  };
+
+  // Warm-up: the bridge opens the operator's daemon connection on its first drive.
+  paced(3, [&] { mqtt_drive(false); });
+  mqtt_stop();
+  {
+    LineClient client(robot.socket());
+    paced(3, [&] { direct_drive(client, false); });
+    client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
+    client.read_line(2000);
+  }
+  // Alternating blocks, so that both paths see the same load on the host.
+  for (int done = 0; done < settings.drives; done += settings.drive_block) {
+    const int n = std::min(settings.drive_block, settings.drives - done);
+    {
+      LineClient client(robot.socket());
+      paced(n, [&] { direct_drive(client, true); });
+      client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
+      client.read_line(2000);
+    }  // closed: control released
+    paced(n, [&] { mqtt_drive(true); });
+    mqtt_stop();
+  }
+  receipts.absorb();
+  for (const auto& result : receipts.results()) {
+    if (result.contains("error")) {
+      ++results.mqtt_error_replies;
+      if (results.first_errors.size() < 5) results.first_errors.push_back("MQTT command reply: " + result.dump());
+    }
+  }
+  return results;
+}
+
+// ---- formatting ----
+
+std::string us(double value) { return fmt::format("{:.0f}", value); }
+std::string p50_p99(const json& j) {
+  return j.value("count", 0) == 0 ? "-" : us(j["p50_us"].get<double>()) + " / " + us(j["p99_us"].get<double>());
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a + " " + b + " " + c;
+}
+
+// ---- the run ----
+
+struct Fleet {
+  std::unique_ptr<Broker> broker;
+  std::vector<std::unique_ptr<Robot>> robots;
+};
+
+// Starts robots until there are `count`: all emulators, then all daemons, then all bridges;
+// returns once each bridge's telemetry reaches the subscriber.
+void grow_fleet(const Settings& settings, Fleet& fleet, std::size_t count, const fs::path& work, Receipts& receipts) {
+  const std::size_t first = fleet.robots.size();
+  for (std::size_t i = first; i < count; ++i) {
+    fleet.robots.push_back(
+        std::make_unique<Robot>(settings.programs, work / robot_name(i), robot_name(i), interface_name(i)));
+  }
+  for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_emulator();
+  for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_daemon();
+  for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_bridge(fleet.broker->port());
+  for (std::size_t i = first; i < count; ++i) {
+    auto& robot = *fleet.robots[i];
+    if (!receipts.wait_for_telemetry(robot.name(), std::chrono::seconds(30))) {
+      throw std::runtime_error("no telemetry from " + robot.name() + " at the subscriber within 30 s\n" +
+                               robot.logs() + "--- mosquitto:\n" + fleet.broker->log_tail());
+    }
+  }
+}
+
+// Everything that runs: the programs end (in reverse order of their start) when it returns.
+int measure(const Settings& settings, const fs::path& work) {
+  const auto started = std::chrono::steady_clock::now();
+  json out;
+  json errors = json::array();
+  out["machine"] = {{"cpus", std::thread::hardware_concurrency()},
+                    {"user_mode_linux", std::getenv("VCAN_RUN_IN_UML") != nullptr},
+                    {"load_average_at_start", load_average()}};
+  out["settings"] = {{"quick", settings.quick},
+                     {"telemetry_seconds", settings.telemetry_s},
+                     {"drives", settings.drives},
+                     {"drive_block", settings.drive_block},
+                     {"drive_interval_ms", settings.drive_interval_ms},
+                     {"robots", settings.robots},
+                     {"run_all_up_to", settings.run_all_up_to},
+                     {"step_seconds", settings.step_s},
+                     {"operator_nodelay", settings.operator_nodelay},
+                     {"broker_config", settings.broker_config}};
+
+  Fleet fleet;
+  fleet.broker = std::make_unique<Broker>(settings.programs.mosquitto, work, settings.broker_config);
+  MqttSubscriber subscriber("127.0.0.1", fleet.broker->port(), "wheeltec-bench-subscriber",
+                            {std::string(kPrefix) + "/+/telemetry", std::string(kPrefix) + "/+/stats",
+                             std::string(kPrefix) + "/+/cmd/result"});
+  Receipts receipts(subscriber);
+  grow_fleet(settings, fleet, 1, work, receipts);
+  Robot& r1 = *fleet.robots[0];
+
+  std::vector<std::string> interfaces;
+  const int most = *std::max_element(settings.robots.begin(), settings.robots.end());
+  for (int i = 0; i < most; ++i) interfaces.push_back(interface_name(static_cast<std::size_t>(i)));
+  BusObserver observer(interfaces, r1.socket());
+  receipts.wait(1000);
+
+  // ---- 1 robot: telemetry latency and CPU per record, nobody driving ----
+  std::cerr << "wheeltec-bench-mqtt: telemetry, 1 robot, " << settings.telemetry_s << " s\n";
+  const std::int64_t t0 = realtime_ns();
+  const double bridge0 = cpu_s(r1.bridge().pid()), daemon0 = cpu_s(r1.daemon().pid()),
+               broker0 = cpu_s(fleet.broker->pid()), emulator0 = cpu_s(r1.emulator().pid());
+  const MachineCpu machine0 = machine_cpu();
+  receipts.wait(settings.telemetry_s * 1000);
+  const std::int64_t t1 = realtime_ns();
+  const double bridge1 = cpu_s(r1.bridge().pid()), daemon1 = cpu_s(r1.daemon().pid()),
+               broker1 = cpu_s(fleet.broker->pid()), emulator1 = cpu_s(r1.emulator().pid());
+  const MachineCpu machine1 = machine_cpu();
+  receipts.wait(1000);  // records of the window still on their way
+  const auto frames = observer.record_frames(0);
+  const TelemetryMatch via_mqtt = match_records(frames, pairs_of(receipts.robot(r1.name()).telemetry), t0, t1);
+  const TelemetryMatch direct = match_records(frames, observer.direct_notifications(), t0, t1);
+  std::size_t published = 0;  // records the bridge published in the window: those received in it
+  for (const auto& receipt : receipts.robot(r1.name()).telemetry) {
+    if (receipt.received_ns >= t0 && receipt.received_ns < t1) ++published;
+  }
+  const double window_s = static_cast<double>(t1 - t0) / 1e9;
+  auto per_record_us = [&](double cpu) { return published == 0 ? 0.0 : cpu / static_cast<double>(published) * 1e6; };
+  json telemetry = {{"window_s", window_s},
+                    {"via_mqtt", match_json(via_mqtt, true)},
+                    {"direct_wheeltecd_subscriber", match_json(direct, true)}};
+  json cpu = {{"records_published", published},
+              {"bridge_cpu_s", bridge1 - bridge0},
+              {"bridge_us_per_record", per_record_us(bridge1 - bridge0)},
+              {"wheeltecd_us_per_record", per_record_us(daemon1 - daemon0)},
+              {"mosquitto_us_per_record", per_record_us(broker1 - broker0)},
+              {"emulator_us_per_record", per_record_us(emulator1 - emulator0)},
+              {"machine_busy_pct", machine1.total > machine0.total
+                                       ? 100.0 * static_cast<double>(machine1.busy - machine0.busy) /
+                                             static_cast<double>(machine1.total - machine0.total)
+                                       : 0.0}};
+  if (via_mqtt.delivered == 0) errors.push_back("no telemetry record matched between the bus and the subscriber");
+
+  // ---- 1 robot: system calls per record, counted exactly (strace -c), bridge and broker ----
+  json syscalls;
+  if (!settings.strace.empty()) {
+    const double seconds = std::min(10.0, settings.telemetry_s);
+    std::cerr << "wheeltec-bench-mqtt: system calls, 1 robot, " << seconds << " s under strace -c\n";
+    SyscallCount bridge_calls(settings.strace, r1.bridge().pid(), work, "wheeltec-mqtt");
+    SyscallCount broker_calls(settings.strace, fleet.broker->pid(), work, "mosquitto");
+    const std::int64_t c0 = realtime_ns();
+    receipts.wait(seconds * 1000);
+    const std::int64_t c1 = realtime_ns();
+    const auto bridge_counts = bridge_calls.stop();
+    const auto broker_counts = broker_calls.stop();
+    receipts.wait(500);
+    std::size_t records = 0;
+    for (const auto& receipt : receipts.robot(r1.name()).telemetry) {
+      if (receipt.received_ns >= c0 && receipt.received_ns < c1) ++records;
+    }
+    auto per_record = [&](const std::map<std::string, std::uint64_t>& counts) {
+      json j = json::object();
+      for (const auto& [name, calls] : counts) {
+        j[name] = records == 0 ? 0.0 : static_cast<double>(calls) / static_cast<double>(records);
+      }
+      return j;
+    };
+    syscalls = {{"seconds", static_cast<double>(c1 - c0) / 1e9},
+                {"records", records},
+                {"bridge_per_record", per_record(bridge_counts)},
+                {"mosquitto_per_record", per_record(broker_counts)}};
+    if (records == 0) errors.push_back("no telemetry record while the system calls were counted");
+  }
+
+  // ---- 1 robot: drives, over the broker and on the daemon's socket ----
+  std::cerr << "wheeltec-bench-mqtt: " << settings.drives << " drives over MQTT and as many on the daemon's socket\n";
+  const std::int64_t d0 = realtime_ns();
+  const DriveResults drives = measure_drives(settings, r1, fleet.broker->port(), receipts);
+  const std::int64_t d1 = realtime_ns();
+  receipts.wait(500);
+  const TelemetryMatch while_driving =
+      match_records(observer.record_frames(0), pairs_of(receipts.robot(r1.name()).telemetry), d0, d1);
+  telemetry["via_mqtt_while_driving"] = match_json(while_driving, true);
+  json drive_json = {{"via_mqtt", drives.mqtt.to_json()},
+                     {"direct_wheeltecd", drives.direct.to_json()},
+                     {"mqtt_error_replies", drives.mqtt_error_replies},
+                     {"first_errors", drives.first_errors}};
+  if (drives.mqtt.latency_us.empty()) errors.push_back("no drive over MQTT reached the bus");
+  if (drives.direct.latency_us.empty()) errors.push_back("no drive on the daemon's socket reached the bus");
+
+  // ---- scaling: N robots, one subscriber of PREFIX/+/telemetry ----
+  json steps = json::array();
+  for (const int n : settings.robots) {
+    const auto count = static_cast<std::size_t>(n);
+    std::cerr << "wheeltec-bench-mqtt: " << n << " robots, " << settings.step_s << " s\n";
+    try {
+      if (count > fleet.robots.size()) grow_fleet(settings, fleet, count, work, receipts);
+    } catch (const std::exception& error) {
+      errors.push_back(fmt::format("{} robots: could not start them: {}", n, error.what()));
+      break;
+    }
+    receipts.wait(1000);
+    std::vector<double> bridge_before, broker_before(1), daemons_before, emulators_before;
+    const std::int64_t s0 = realtime_ns();
+    for (std::size_t i = 0; i < count; ++i) {
+      bridge_before.push_back(cpu_s(fleet.robots[i]->bridge().pid()));
+      daemons_before.push_back(cpu_s(fleet.robots[i]->daemon().pid()));
+      emulators_before.push_back(cpu_s(fleet.robots[i]->emulator().pid()));
+    }
+    broker_before[0] = cpu_s(fleet.broker->pid());
+    const MachineCpu m0 = machine_cpu();
+    receipts.wait(settings.step_s * 1000);
+    const std::int64_t s1 = realtime_ns();
+    double bridges_cpu = 0, daemons_cpu = 0, emulators_cpu = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      bridges_cpu += cpu_s(fleet.robots[i]->bridge().pid()) - bridge_before[i];
+      daemons_cpu += cpu_s(fleet.robots[i]->daemon().pid()) - daemons_before[i];
+      emulators_cpu += cpu_s(fleet.robots[i]->emulator().pid()) - emulators_before[i];
+    }
+    const double broker_cpu = cpu_s(fleet.broker->pid()) - broker_before[0];
+    const MachineCpu m1 = machine_cpu();
+    receipts.wait(1500);  // late records and the stats published after the window
+    const double seconds = static_cast<double>(s1 - s0) / 1e9;
+
+    TelemetryMatch all;
+    std::size_t received_in_window = 0;
+    std::uint64_t dropped = 0, rate_limited = 0, queued = 0;
+    std::size_t lost_not_accepted = 0, lost_after_daemon = 0, lost_unknown = 0;
+    json per_robot = json::array();
+    std::vector<std::string> ended;
+    for (std::size_t i = 0; i < count; ++i) {
+      auto& robot = *fleet.robots[i];
+      auto& got = receipts.robot(robot.name());
+      const TelemetryMatch match = match_records(observer.record_frames(i), pairs_of(got.telemetry), s0, s1);
+      all.on_bus += match.on_bus;
+      all.delivered += match.delivered;
+      all.latency_us.insert(all.latency_us.end(), match.latency_us.begin(), match.latency_us.end());
+      for (const auto& receipt : got.telemetry) {
+        if (receipt.received_ns >= s0 && receipt.received_ns < s1) ++received_in_window;
+      }
+      // The bridge's counters: the last stats before the window and the last one after it.
+      json before, after;
+      for (const auto& stats : got.stats) {
+        if (stats.received_ns <= s0) before = stats.stats;
+        after = stats.stats;
+      }
+      auto counter = [](const json& stats, const char* key) -> std::uint64_t {
+        return stats.is_object() && stats.contains("bridge") ? stats["bridge"].value(key, std::uint64_t{0}) : 0;
+      };
+      // wheeltecd's counters of frame groups it discarded or rejected, and of notifications a
+      // slow client (the bridge) did not get.
+      auto daemon_counter = [](const json& stats, const char* key) -> std::uint64_t {
+        if (!stats.is_object() || !stats.contains("wheeltecd") || !stats["wheeltecd"].is_object()) return 0;
+        const json& value = stats["wheeltecd"].value(key, json());
+        if (value.is_number_unsigned()) return value.get<std::uint64_t>();
+        std::uint64_t sum = 0;
+        if (value.is_object()) {
+          for (const auto& item : value) sum += item.is_number_unsigned() ? item.get<std::uint64_t>() : 0;
+        }
+        return sum;
+      };
+      auto daemon_delta = [&](const char* key) { return daemon_counter(after, key) - daemon_counter(before, key); };
+      const LossSplit split = split_losses(match.missing_ns, got.telemetry);
+      lost_not_accepted += split.not_accepted;
+      lost_after_daemon += split.after_daemon;
+      lost_unknown += split.unknown;
+      const std::uint64_t robot_dropped = counter(after, "telemetry_dropped") - counter(before, "telemetry_dropped");
+      dropped += robot_dropped;
+      rate_limited += counter(after, "telemetry_rate_limited") - counter(before, "telemetry_rate_limited");
+      queued += counter(after, "telemetry_queued");
+      per_robot.push_back({{"robot", robot.name()},
+                           {"on_bus", match.on_bus},
+                           {"delivered", match.delivered},
+                           {"lost", match.lost()},
+                           {"telemetry_dropped", robot_dropped},
+                           {"telemetry_dropped_total", counter(after, "telemetry_dropped")},
+                           {"lost_not_accepted_by_wheeltecd", split.not_accepted},
+                           {"lost_after_wheeltecd", split.after_daemon},
+                           {"lost_unclassified", split.unknown},
+                           {"wheeltecd_groups_discarded", daemon_delta("groups_discarded")},
+                           {"wheeltecd_records_rejected", daemon_delta("records_rejected")},
+                           {"wheeltecd_resync_skipped", daemon_delta("resync_skipped")},
+                           {"wheeltecd_notifications_dropped", daemon_delta("notifications_dropped")},
+                           {"stats_seen", !after.is_null()}});
+      for (auto& name : robot.ended()) ended.push_back(name);
+    }
+    const double expected = kTelemetryHz * n * seconds;
+    const double busy_pct = m1.total > m0.total ? 100.0 * static_cast<double>(m1.busy - m0.busy) /
+                                                      static_cast<double>(m1.total - m0.total)
+                                                : 0.0;
+    json step = match_json(all);
+    step["robots"] = n;
+    step["seconds"] = seconds;
+    step["expected"] = expected;
+    step["received_in_window"] = received_in_window;
+    step["records_per_s"] = static_cast<double>(received_in_window) / seconds;
+    step["telemetry_dropped"] = dropped;
+    step["lost_not_accepted_by_wheeltecd"] = lost_not_accepted;
+    step["lost_after_wheeltecd"] = lost_after_daemon;
+    step["lost_unclassified"] = lost_unknown;
+    step["telemetry_rate_limited"] = rate_limited;
+    step["telemetry_queued_after"] = queued;
+    step["bridges_us_per_record"] = all.delivered == 0 ? 0.0 : bridges_cpu / static_cast<double>(all.delivered) * 1e6;
+    step["bridges_cpu_pct"] = 100.0 * bridges_cpu / seconds;
+    step["wheeltecds_cpu_pct"] = 100.0 * daemons_cpu / seconds;
+    step["emulators_cpu_pct"] = 100.0 * emulators_cpu / seconds;
+    step["mosquitto_cpu_pct"] = 100.0 * broker_cpu / seconds;
+    step["machine_busy_pct"] = busy_pct;
+    step["per_robot"] = per_robot;
+    steps.push_back(step);
+    for (const auto& name : ended) errors.push_back(fmt::format("{} robots: {} ended", n, name));
+    if (!ended.empty()) break;
+    const bool lossy = all.lost() > 0 || dropped > 0 || all.on_bus + 0.5 * kTelemetryHz * n < expected;
+    if ((lossy || busy_pct >= 95.0) && n >= settings.run_all_up_to && !settings.keep_going) break;
+  }
+
+  out["telemetry"] = telemetry;
+  out["cpu_per_record"] = cpu;
+  if (!syscalls.is_null()) out["syscalls_per_record"] = syscalls;
+  out["drives"] = drive_json;
+  out["scaling"] = steps;
+  out["errors"] = errors;
+  out["load_average_at_end"] = load_average();
+  out["elapsed_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  // ---- the tables ----
+  std::cout << "| wheeltec-mqtt, 1 robot (" << (out["machine"]["user_mode_linux"].get<bool>() ? "User-Mode Linux, " : "")
+            << "1 broker, 1 subscriber) | p50 / p99 (us) | n | lost or missed |\n|---|---|---|---|\n";
+  std::cout << "| drive published on the broker -> first 0x121 frame with its velocity | "
+            << p50_p99(drive_json["via_mqtt"]) << " | " << drive_json["via_mqtt"]["count"] << " | "
+            << drives.mqtt.missed << " |\n";
+  std::cout << "| reference: drive written on wheeltecd's socket -> frame (same blocks, alternating) | "
+            << p50_p99(drive_json["direct_wheeltecd"]) << " | " << drive_json["direct_wheeltecd"]["count"] << " | "
+            << drives.direct.missed << " |\n";
+  std::cout << "| 0x103 frame on the bus -> record at the MQTT subscriber, nobody driving | "
+            << p50_p99(telemetry["via_mqtt"]) << " | " << telemetry["via_mqtt"]["count"] << " | " << via_mqtt.lost()
+            << " of " << via_mqtt.on_bus << " |\n";
+  std::cout << "| reference: 0x103 frame -> notification at a direct wheeltecd subscriber | "
+            << p50_p99(telemetry["direct_wheeltecd_subscriber"]) << " | "
+            << telemetry["direct_wheeltecd_subscriber"]["count"] << " | " << direct.lost() << " of " << direct.on_bus
+            << " |\n";
+  std::cout << "| 0x103 frame -> MQTT subscriber, while driving (" << us(1000.0 / settings.drive_interval_ms)
+            << " drives/s) | " << p50_p99(telemetry["via_mqtt_while_driving"]) << " | "
+            << telemetry["via_mqtt_while_driving"]["count"] << " | " << while_driving.lost() << " of "
+            << while_driving.on_bus << " |\n\n";
+  std::cout << fmt::format(
+      "| CPU per record, {:.0f} s at 20 Hz, {} records (utime+stime, tick-sampled) | us |\n|---|---|\n"
+      "| wheeltec-mqtt | {:.0f} |\n| wheeltecd | {:.0f} |\n| mosquitto | {:.0f} |\n| wheeltec-emu | {:.0f} |\n"
+      "| machine busy (% of its CPUs) | {:.1f} % |\n\n",
+      window_s, published, cpu["bridge_us_per_record"].get<double>(), cpu["wheeltecd_us_per_record"].get<double>(),
+      cpu["mosquitto_us_per_record"].get<double>(), cpu["emulator_us_per_record"].get<double>(),
+      cpu["machine_busy_pct"].get<double>());
+  if (!syscalls.is_null()) {
+    auto listing = [](const json& per_record) {
+      std::vector<std::pair<double, std::string>> calls;
+      for (const auto& [name, value] : per_record.items()) {
+        if (name != "total" && value.get<double>() >= 0.05) calls.emplace_back(value.get<double>(), name);
+      }
+      std::sort(calls.rbegin(), calls.rend());
+      std::string text;
+      for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
+      return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
+    };
+    std::cout << fmt::format("| system calls per record (strace -c -f, {:.0f} s, {} records, stats every 1 s included) | |\n"
+                             "|---|---|\n| wheeltec-mqtt | {} |\n| mosquitto | {} |\n\n",
+                             syscalls["seconds"].get<double>(), syscalls["records"].get<std::size_t>(),
+                             listing(syscalls["bridge_per_record"]), listing(syscalls["mosquitto_per_record"]));
+  }
+  std::cout << "| robots | s | expected (20 Hz) | on the bus | delivered | lost: not accepted by wheeltecd / after it | "
+               "bridges' telemetry_dropped | "
+               "records/s at the subscriber | latency p50 / p99 (us) | bridge CPU per record (us) | "
+               "bridges / wheeltecds / emulators / mosquitto (% of a core) | machine busy |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& step : steps) {
+    const auto unclassified = step["lost_unclassified"].get<std::size_t>();
+    std::cout << fmt::format("| {} | {:.1f} | {:.0f} | {} | {} | {}: {} / {}{} | {} | {:.1f} | {} | {:.0f} | {:.1f} / {:.1f} / {:.1f} / {:.1f} | {:.0f} % |\n",
+                             step["robots"].get<int>(), step["seconds"].get<double>(), step["expected"].get<double>(),
+                             step["on_bus"].get<std::size_t>(), step["delivered"].get<std::size_t>(),
+                             step["lost"].get<std::size_t>(), step["lost_not_accepted_by_wheeltecd"].get<std::size_t>(),
+                             step["lost_after_wheeltecd"].get<std::size_t>(),
+                             unclassified == 0 ? std::string() : fmt::format(" (+{} unclassified)", unclassified),
+                             step["telemetry_dropped"].get<std::uint64_t>(),
+                             step["records_per_s"].get<double>(), p50_p99(step),
+                             step["bridges_us_per_record"].get<double>(), step["bridges_cpu_pct"].get<double>(),
+                             step["wheeltecds_cpu_pct"].get<double>(), step["emulators_cpu_pct"].get<double>(),
+                             step["mosquitto_cpu_pct"].get<double>(), step["machine_busy_pct"].get<double>());
+  }
+  if (!errors.empty()) {
+    std::cout << "\nErrors:\n";
+    for (const auto& error : errors) std::cout << "- " << error.get<std::string>() << "\n";
+  }
+  std::cout.flush();
+
+  if (!settings.json_path.empty()) std::ofstream(settings.json_path) << out.dump(2) << "\n";
+  return errors.empty() ? 0 : 1;
+}
+
+int run(const Settings& settings) {
+  if (!settings.work_dir.empty()) {
+    fs::create_directories(settings.work_dir);
+    return measure(settings, settings.work_dir);
+  }
+  std::string pattern = (fs::temp_directory_path() / "wheeltec-bench-mqtt.XXXXXX").string();
+  if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+  struct Remove {
+    fs::path path;
+    ~Remove() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  } work{pattern};
+  return measure(settings, work.path);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(parse_arguments(argc, argv));
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "wheeltec-bench-mqtt: " << error.what() << "\n";
+    usage();
+    return 2;
+  } catch (const std::exception& error) {
+    std::cerr << "wheeltec-bench-mqtt: " << error.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# Runs the benchmark of wheeltec-mqtt, the fleet bridge (issue #15), and prints its figures:
+# one real mosquitto on 127.0.0.1, and per robot wheeltec-emu, wheeltecd and wheeltec-mqtt on
+# their own vcan interface, all in one scripts/vcan-run session (User-Mode Linux on hosts
+# without SocketCAN), measured by wheeltec-bench-mqtt (bench/mqtt/):
+#   1. drive published on the broker -> first 0x121 frame with its velocity, p50/p99, next to
+#      the same drive written on wheeltecd's socket;
+#   2. 0x103 frame on the bus (kernel timestamp) -> the record at an MQTT subscriber,
+#      p50/p99, next to a direct subscriber of the daemon;
+#   3. the bridge's CPU per record (utime+stime over the run / records published), and its
+#      and the broker's system calls per record (strace -c);
+#   4. N robots against one broker (1, 2, 4, 8, 16, until records are lost): records/s at
+#      one subscriber of wheeltec/+/telemetry, records lost, the bridges' telemetry_dropped.
+# Writes $BENCH_OUT (default: $BUILD_DIR/bench-results) /mqtt.json and mqtt-table.md.
+# Takes about 3 minutes; --quick (short runs, 1 and 2 robots, to check that it works) well
+# under a minute.
+#
+#   scripts/bench-mqtt.sh [--quick] [-- MORE ARGUMENTS OF wheeltec-bench-mqtt]
+#
+# BUILD_DIR (default /tmp/build-bench) is configured and built if needed. MQTT_BENCH_ROBOTS
+# (e.g. "1,2,4,8,16,24") replaces the list of robot counts.
+set -euo pipefail
+
+REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUILD_DIR=${BUILD_DIR:-/tmp/build-bench}
+BENCH_OUT=${BENCH_OUT:-$BUILD_DIR/bench-results}
+QUICK=0
+extra=()
+while (($#)); do
+  case "$1" in
+    --quick) QUICK=1 ;;
+    --) shift; extra=("$@"); break ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    *) echo "bench-mqtt.sh: unknown argument $1" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+# shellcheck source=lib/setup.sh
+source "$REPO_ROOT/scripts/lib/setup.sh"
+install_packages libmosquitto-dev mosquitto strace "${WHEELTEC_VCAN_PACKAGES[@]}"
+
+if [[ ! -f $BUILD_DIR/build.ninja ]]; then
+  cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWHEELTEC_BUILD_BENCHMARKS=ON >/dev/null
+elif ! grep -q '^WHEELTEC_BUILD_BENCHMARKS:BOOL=ON' "$BUILD_DIR/CMakeCache.txt"; then
+  cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -DWHEELTEC_BUILD_BENCHMARKS=ON >/dev/null
+fi
+cmake --build "$BUILD_DIR" --target wheeltec-bench-mqtt wheeltecd wheeltec-emu wheeltec-mqtt -j"${BUILD_JOBS:-2}"
+mkdir -p "$BENCH_OUT"
+
+args=()
+# strace counts the system calls of the bridge and the broker per record exactly (the CPU
+# time that User-Mode Linux reports is sampled in 10 ms ticks).
+strace=$(command -v strace || true)
+[[ -n $strace ]] && args+=(--strace "$strace")
+if ((QUICK)); then
+  robots=${MQTT_BENCH_ROBOTS:-1,2}
+  args+=(--quick)
+else
+  robots=${MQTT_BENCH_ROBOTS:-1,2,4,8,16}
+fi
+most=$(tr ',' '\n' <<<"$robots" | sort -n | tail -n 1)
+interfaces=$(for ((i = 0; i < most; i++)); do printf 'vcan%d ' "$i"; done)
+
+echo "== wheeltec-mqtt: 1 robot, then $robots robots against one mosquitto (through scripts/vcan-run)"
+started=$SECONDS
+status=0
+VCAN_INTERFACES=${interfaces% } "$REPO_ROOT/scripts/vcan-run" -- "$BUILD_DIR/bench/wheeltec-bench-mqtt" \
+  --wheeltecd "$BUILD_DIR/daemon/wheeltecd" --emulator "$BUILD_DIR/emulator/wheeltec-emu" \
+  --bridge "$BUILD_DIR/mqtt/wheeltec-mqtt" --mosquitto "$(command -v mosquitto || echo /usr/sbin/mosquitto)" \
+  --robots "$robots" --json "$BENCH_OUT/mqtt.json" "${args[@]}" "${extra[@]}" >"$BENCH_OUT/mqtt-table.body.md" ||
+  status=$?
+
+{
+  echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s including the virtual machine's boot."
+  echo
+  cat "$BENCH_OUT/mqtt-table.body.md"
+} >"$BENCH_OUT/mqtt-table.md"
+rm -f "$BENCH_OUT/mqtt-table.body.md"
+echo
+cat "$BENCH_OUT/mqtt-table.md"
+echo
+echo "bench-mqtt.sh: figures in $BENCH_OUT (mqtt-table.md, mqtt.json)"
+exit "$status"
