@@ -2,32 +2,13 @@
 
 #include <cmath>
 
+#include "wheeltec/json_text.hpp"
+
 namespace wheeltec::mqtt {
 namespace {
 
-// Deeper than any command: refused before parsing, so that a payload of 64 Ki brackets
-// costs nothing.
+// Deeper than any command; deeper containers are dropped while parsing.
 constexpr int kMaxDepth = 8;
-
-bool nested_too_deep(std::string_view text) {
-  int depth = 0;
-  bool in_string = false;
-  bool escaped = false;
-  for (const char c : text) {
-    if (in_string) {
-      if (escaped) escaped = false;
-      else if (c == '\\') escaped = true;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxDepth) return true;
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return false;
-}
 
 CommandRefusal refuse(int code, std::string message, Json id = nullptr) {
   return CommandRefusal{code, std::move(message), std::move(id)};
@@ -44,18 +25,24 @@ ParsedCommand parse_command(Command command, std::string_view payload) {
   }
   Json document = Json::object();
   if (!payload.empty()) {
-    if (nested_too_deep(payload)) {
+    json_text::Findings findings;
+    try {
+      document = json_text::parse(payload, findings, kMaxDepth);
+    } catch (const nlohmann::json::exception& error) {
+      if (lenient) return request;
+      if (!findings.too_deep) return refuse(kParseError, "payload is not JSON: " + json_text::message(error));
+    }
+    if (findings.too_deep) {
       if (lenient) return request;
       return refuse(kInvalidRequest, "payload nested deeper than " + std::to_string(kMaxDepth) + " levels");
-    }
-    document = Json::parse(payload, nullptr, /*allow_exceptions=*/false);
-    if (document.is_discarded()) {
-      if (lenient) return request;
-      return refuse(kParseError, "payload is not JSON");
     }
     if (!document.is_object()) {
       if (lenient) return request;
       return refuse(kInvalidRequest, std::string("payload must be a JSON object, got ") + document.type_name());
+    }
+    // A command that says two things is not guessed at.
+    if (findings.duplicate_key && !lenient) {
+      return refuse(kInvalidRequest, "duplicate key \"" + json_text::printable(*findings.duplicate_key) + "\"");
     }
   }
 

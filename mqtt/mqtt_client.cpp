@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
@@ -42,13 +44,17 @@ void library_init() {
 
 class MqttClient::State : public std::enable_shared_from_this<State> {
  public:
-  // The client's lifecycle; `connecting` is between the TCP connect and the broker's CONNACK.
-  enum class Phase { idle, connecting, connected, waiting, stopped };
+  // The client's lifecycle: `reaching` while an Asio connect finds out whether the broker's
+  // address answers at all, `connecting` between libmosquitto's connect and the CONNACK.
+  enum class Phase { idle, reaching, connecting, connected, waiting, stopped };
 
   State(boost::asio::any_io_executor executor, const BridgeConfig::Broker& broker, std::string client_id, LastWill will)
       : broker_(broker),
         will_(std::move(will)),
         descriptor_(executor),
+        resolver_(executor),
+        probe_(executor),
+        reach_deadline_(executor),
         retry_timer_(executor),
         misc_timer_(executor),
         backoff_(milliseconds(broker.reconnect_min_s), milliseconds(broker.reconnect_max_s)) {
@@ -105,6 +111,9 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
 
   void close() {
     phase_ = Phase::stopped;
+    resolver_.cancel();
+    probe_.close();
+    reach_deadline_.cancel();
     retry_timer_.cancel();
     misc_timer_.cancel();
     release_descriptor();
@@ -158,17 +167,51 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
     }
   }
 
-  // The TCP connect blocks the loop for as long as the kernel takes to connect or refuse:
-  // immediate for a broker on this host or a reachable network (libmosquitto 2.0's
-  // non-blocking connect never sends CONNECT without its own thread).
+  // libmosquitto's own connect blocks, and its non-blocking one cannot finish a TLS
+  // handshake on a connection that is still being set up (its loop calls spin). So the
+  // broker's address is first reached with Asio, within keepalive_s, and the connection
+  // closed again; libmosquitto then connects to a host known to answer, at once. Without
+  // this, a broker host that drops packets froze the bridge for the kernel's connect
+  // timeout (over two minutes), SIGTERM included.
   void attempt() {
     if (phase_ == Phase::stopped) return;
+    phase_ = Phase::reaching;
+    reach_deadline_.expires_after(std::chrono::seconds(broker_.keepalive_s));
+    reach_deadline_.async_wait([self = shared_from_this()](boost::system::error_code ec) {
+      if (ec || self->phase_ != Phase::reaching) return;
+      self->resolver_.cancel();
+      self->probe_.close();
+      self->fail_attempt(fmt::format("the broker {}:{} did not answer within {} s (broker.keepalive_s)",
+                                     self->broker_.host, self->broker_.port, self->broker_.keepalive_s));
+    });
+    resolver_.async_resolve(
+        broker_.host, std::to_string(broker_.port),
+        [self = shared_from_this()](boost::system::error_code ec, boost::asio::ip::tcp::resolver::results_type found) {
+          if (self->phase_ != Phase::reaching) return;
+          if (ec) return self->unreachable(ec);
+          boost::asio::async_connect(self->probe_, found, [self](boost::system::error_code ec, const auto&) {
+            if (self->phase_ != Phase::reaching) return;
+            self->probe_.close();
+            if (ec) return self->unreachable(ec);
+            self->reach_deadline_.cancel();
+            self->connect();
+          });
+        });
+  }
+
+  void unreachable(boost::system::error_code ec) {
+    reach_deadline_.cancel();
+    cannot_connect(ec.message());
+  }
+
+  void cannot_connect(const std::string& why) {
+    fail_attempt(fmt::format("cannot connect to the broker {}:{}: {}", broker_.host, broker_.port, why));
+  }
+
+  void connect() {
     const int rc = mosquitto_connect_bind_v5(mosq_, broker_.host.c_str(), broker_.port, broker_.keepalive_s, nullptr,
                                              nullptr);
-    if (rc != MOSQ_ERR_SUCCESS) {
-      fail_attempt(fmt::format("cannot connect to the broker {}:{}: {}", broker_.host, broker_.port, error_text(rc)));
-      return;
-    }
+    if (rc != MOSQ_ERR_SUCCESS) return cannot_connect(error_text(rc));
     phase_ = Phase::connecting;
     ++generation_;
     descriptor_.assign(mosquitto_socket(mosq_));
@@ -312,6 +355,9 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
   LastWill will_;
   mosquitto* mosq_ = nullptr;
   boost::asio::posix::stream_descriptor descriptor_;
+  boost::asio::ip::tcp::resolver resolver_;
+  boost::asio::ip::tcp::socket probe_;
+  boost::asio::steady_timer reach_deadline_;
   boost::asio::steady_timer retry_timer_;
   boost::asio::steady_timer misc_timer_;
   Backoff backoff_;

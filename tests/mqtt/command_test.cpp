@@ -81,6 +81,13 @@ TEST(MqttCommand, OversizedAndDeeplyNestedPayloadsAreRefused) {
   EXPECT_EQ(refused(Command::drive, R"({"x":"[[[[[[[[[[[[[[[["})").message, "unknown param x");
 }
 
+TEST(MqttCommand, AKeyGivenTwiceIsRefusedNotGuessed) {
+  const auto twice = refused(Command::drive, R"({"vx":0.2,"vx":-0.2})");
+  EXPECT_EQ(twice.code, kInvalidRequest);
+  EXPECT_EQ(twice.message, "duplicate key \"vx\"");
+  EXPECT_EQ(accepted(Command::stop, R"({"id":1,"id":2})").command, Command::stop);
+}
+
 TEST(MqttCommand, StopIsNeverRefused) {
   for (const std::string& payload : std::vector<std::string>{"", "{}", "garbage", "[1]", R"({"vx":1})", R"({"id":[]})",
                                     std::string(kMaxCommandBytes + 1, '{')}) {
