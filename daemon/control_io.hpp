@@ -13,7 +13,7 @@
 namespace wheeltec::daemon {
 
 // The daemon's ControlPorts: the steady clock, the CAN link, a timerfd tick, two Asio
-// timers and the stall sentinel (for the control rate at start-up).
+// timers and the stall sentinel, retimed when the control rate changes.
 class ControlIo {
  public:
   ControlIo(boost::asio::io_context& io, CanLink& link, double rate_hz);
@@ -58,6 +58,7 @@ class ControlIo {
     void start() override { sentinel_.start(); }
     void beat(std::uint32_t zero_frame_id) override { sentinel_.beat(zero_frame_id); }
     void disarm() override { sentinel_.disarm(); }
+    void set_rate(double rate_hz) override { sentinel_.retime(StallSentinel::timing_for_rate(rate_hz)); }
 
    private:
     StallSentinel sentinel_;

@@ -204,6 +204,7 @@ void ControlLoop::apply(const GatewayConfig& config) {
     arbiter_.set_command_timeout(timer_interval(config_.control.command_timeout_s));
     // New limits or Z mode apply to the current target at once.
     if (update_command() && enabled_) send_control();
+    if (period_changed) ports_.stall_guard.set_rate(config_.control.rate_hz);
     if (enabled_ && period_changed) start_periodic();
     if (enabled_ && (refresh_changed || dialect_changed)) start_enable_refresh();
   });

@@ -53,6 +53,7 @@ class StallGuard {
   virtual void start() = 0;
   virtual void beat(std::uint32_t zero_frame_id) = 0;  // a control period went out
   virtual void disarm() = 0;                           // nothing to guard
+  virtual void set_rate(double rate_hz) = 0;           // the control periods' rate changed
 };
 
 struct ControlPorts {

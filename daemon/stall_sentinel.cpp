@@ -110,10 +110,11 @@ bool StallSentinel::start() {
     return false;
   }
   shared_ = new (memory) Shared;
+  retime(timing_);
   const pid_t daemon = ::getpid();
   std::fflush(nullptr);
   pid_ = ::fork();
-  if (pid_ == 0) run(*shared_, interface_, timing_, daemon);
+  if (pid_ == 0) run(*shared_, interface_, timing_.poll, daemon);
   if (pid_ < 0) {
     spdlog::warn("stall sentinel: cannot start: {}; a hung daemon leaves the chassis at its last command until "
                  "the watchdog restarts it",
@@ -127,7 +128,14 @@ bool StallSentinel::start() {
   return true;
 }
 
-void StallSentinel::run(Shared& shared, const std::string& interface, Timing timing, pid_t daemon) {
+void StallSentinel::retime(Timing timing) noexcept {
+  timing_ = timing;
+  if (!shared_) return;
+  shared_->delay_ms.store(timing.delay.count(), std::memory_order_relaxed);
+  shared_->repeat_ms.store(timing.repeat.count(), std::memory_order_relaxed);
+}
+
+void StallSentinel::run(Shared& shared, const std::string& interface, std::chrono::milliseconds poll, pid_t daemon) {
   // Dies with the daemon; holds none of its sockets (a client's connection must close when
   // the daemon closes it) and none of its signal handlers.
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
@@ -141,7 +149,9 @@ void StallSentinel::run(Shared& shared, const std::string& interface, Timing tim
   auto moved = Clock::now();
   bool stalled = false;
   for (;;) {
-    std::this_thread::sleep_for(stalled ? timing.repeat : timing.poll);
+    const std::chrono::milliseconds delay(shared.delay_ms.load(std::memory_order_relaxed));
+    const std::chrono::milliseconds repeat(shared.repeat_ms.load(std::memory_order_relaxed));
+    std::this_thread::sleep_for(stalled ? repeat : poll);
     const auto now = Clock::now();
     const std::uint64_t beats = shared.beats.load(std::memory_order_acquire);
     const std::uint32_t id = shared.zero_frame_id.load(std::memory_order_acquire);
@@ -152,7 +162,7 @@ void StallSentinel::run(Shared& shared, const std::string& interface, Timing tim
       stalled = false;
       continue;
     }
-    if (now - moved < timing.delay) continue;
+    if (now - moved < delay) continue;
     if (!stalled) report("the daemon sent no control frame for too long: sending zero velocity in its place");
     stalled = true;
     sender.send(id);

@@ -41,6 +41,8 @@ class StallSentinel {
     shared_->zero_frame_id.store(zero_frame_id, std::memory_order_relaxed);
     shared_->beats.fetch_add(1, std::memory_order_release);
   }
+  // The control rate changed: the sentinel's delay and repeat follow it.
+  void retime(Timing timing) noexcept;
   // Nothing to guard (control disabled, daemon stopping): the sentinel stays quiet.
   void disarm() noexcept {
     if (shared_) shared_->zero_frame_id.store(0, std::memory_order_release);
@@ -53,10 +55,13 @@ class StallSentinel {
   struct Shared {
     std::atomic<std::uint64_t> beats{0};
     std::atomic<std::uint32_t> zero_frame_id{0};  // 0: disarmed
+    std::atomic<std::int64_t> delay_ms{0};
+    std::atomic<std::int64_t> repeat_ms{0};
   };
   static_assert(std::atomic<std::uint64_t>::is_always_lock_free, "shared between processes");
 
-  [[noreturn]] static void run(Shared& shared, const std::string& interface, Timing timing, pid_t daemon);
+  [[noreturn]] static void run(Shared& shared, const std::string& interface, std::chrono::milliseconds poll,
+                               pid_t daemon);
 
   std::string interface_;
   Timing timing_;

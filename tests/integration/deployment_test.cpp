@@ -15,6 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include "can_bus.hpp"
+#include "control_frames.hpp"
 #include "gateway.hpp"
 #include "test_environment.hpp"
 
@@ -162,6 +164,34 @@ TEST_F(Deployment, SighupAppliesRunTimeSettingsAndRefusesAnInvalidFile) {
   EXPECT_EQ(first.call("status")["bus"]["state"], "up") << "still on the interface it started with";
   auto third = gateway.connect();
   EXPECT_TRUE(third.wait_closed(2s)) << "the invalid file's reload changed max_clients";
+}
+
+// Reloaded to 1 Hz, the control frames come 1 s apart, twice the stall sentinel's delay
+// at the start-up rate: the sentinel is retimed with the rate and does not send zero
+// between the periods of a robot that is being driven.
+TEST_F(Deployment, SighupToALowControlRateLeavesADrivenRobotDriving) {
+  Gateway gateway(directory_.path(), GatewayOptions{});
+  gateway.start();
+  gateway.wait_online();
+  nlohmann::json slow = gateway.config();
+  slow["control"]["rate_hz"] = 1;
+  slow["control"]["command_timeout_s"] = 10;
+  std::ofstream(gateway.config_path()) << slow.dump(2) << "\n";
+  gateway.daemon().send_signal(SIGHUP);
+  ASSERT_TRUE(wait_for_output(gateway.daemon(), "SIGHUP: configuration reloaded", 3s)) << gateway.logs();
+
+  CanBus bus(test_interface());
+  auto client = gateway.connect();
+  ASSERT_TRUE(client.request("drive", {{"vx", 0.3}}).contains("result"));
+  const auto frames = bus.collect([](const wheeltec::CanFrame& frame) { return is_control_frame(frame); }, 3500ms);
+  std::size_t driving = 0;
+  for (const auto& observed : frames) {
+    EXPECT_FALSE(is_zero_control_frame(observed.frame))
+        << "zero velocity sent while the owner drives at 1 Hz: " << to_text(observed.frame) << "\n"
+        << gateway.logs();
+    if (control_x(observed.frame) == 300) ++driving;
+  }
+  EXPECT_GE(driving, 3u) << "the periodic frames at 1 Hz";
 }
 
 }  // namespace

@@ -104,6 +104,7 @@ class Simulation : public MonotonicClock, public FrameSink, public StallGuard {
     guard_zero_id_ = zero_frame_id;
   }
   void disarm() override { guard_zero_id_ = 0; }
+  void set_rate(double rate_hz) override { guard_rate_hz_ = rate_hz; }
 
   // Fires every event due up to `time`, in time order, each at its own time.
   void advance_to(MonotonicNanos time) {
@@ -131,6 +132,7 @@ class Simulation : public MonotonicClock, public FrameSink, public StallGuard {
   bool guard_started_ = false;
   int beats_ = 0;
   std::uint32_t guard_zero_id_ = 0;
+  double guard_rate_hz_ = 0.0;  // 0: never told
 
  private:
   std::uint64_t next_order() { return ++order_; }
@@ -214,6 +216,19 @@ TEST_F(ControlLoopTest, StartSendsZeroThenEnablesAndRepeatsEveryPeriod) {
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
   sim_.advance(10 * kPeriod);
   EXPECT_EQ(velocities(sim_.take_frames()).size(), 10u);
+}
+
+// At 1 Hz the periods are further apart than the stall guard's delay at 20 Hz: a guard
+// left at the old rate would stop a driving robot between periods.
+TEST_F(ControlLoopTest, ReloadedRateRetimesTheStallGuard) {
+  start();
+  GatewayConfig slower = config_;
+  slower.control.rate_hz = 1.0;
+  loop_.apply(slower);
+  EXPECT_EQ(sim_.guard_rate_hz_, 1.0);
+  sim_.guard_rate_hz_ = 0.0;
+  loop_.apply(slower);
+  EXPECT_EQ(sim_.guard_rate_hz_, 0.0) << "an unchanged rate needs no retiming";
 }
 
 TEST_F(ControlLoopTest, DriveSendsAtOnceAndTheLastCommandEveryPeriod) {
