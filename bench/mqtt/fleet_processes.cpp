@@ -1,10 +1,6 @@
 #include "fleet_processes.hpp"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <fstream>
@@ -13,39 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "loopback_tcp.hpp"
+
 namespace bench {
-namespace {
-
-int free_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof address;
-  if (fd < 0 || ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
-      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
-    throw std::runtime_error("no free TCP port on 127.0.0.1");
-  }
-  ::close(fd);
-  return ntohs(address.sin_port);
-}
-
-bool accepts_connections(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  address.sin_port = htons(static_cast<std::uint16_t>(port));
-  const bool connected = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
-  ::close(fd);
-  return connected;
-}
-
-}  // namespace
 
 Broker::Broker(const std::string& mosquitto, const std::filesystem::path& directory,
                const std::vector<std::string>& extra_config)
-    : port_(free_port()) {
+    : port_(integration::free_loopback_port()) {
   const auto config = directory / "mosquitto.conf";
   {
     std::ofstream out(config);
@@ -59,7 +29,7 @@ Broker::Broker(const std::string& mosquitto, const std::filesystem::path& direct
   process_ = std::make_unique<ChildProgram>("mosquitto", std::vector<std::string>{mosquitto, "-c", config.string()},
                                             directory);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (!accepts_connections(port_)) {
+  while (!integration::loopback_accepts(port_)) {
     if (!process_->running()) throw std::runtime_error("mosquitto ended at start-up:\n" + process_->log_tail());
     if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("mosquitto did not start within 20 s");
     std::this_thread::sleep_for(std::chrono::milliseconds(10));

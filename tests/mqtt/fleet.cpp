@@ -1,10 +1,6 @@
 #include "fleet.hpp"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <csignal>
 #include <fstream>
@@ -12,6 +8,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "loopback_tcp.hpp"
 #include "test_environment.hpp"
 
 namespace fleet {
@@ -21,31 +18,6 @@ using SteadyClock = std::chrono::steady_clock;
 constexpr const char* kMosquitto = "/usr/sbin/mosquitto";
 constexpr const char* kMosquittoSub = "/usr/bin/mosquitto_sub";
 constexpr const char* kMosquittoPub = "/usr/bin/mosquitto_pub";
-
-int free_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof address;
-  if (fd < 0 || ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
-      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
-    throw std::runtime_error("no free TCP port on 127.0.0.1");
-  }
-  ::close(fd);
-  return ntohs(address.sin_port);
-}
-
-bool accepts_connections(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  address.sin_port = htons(static_cast<std::uint16_t>(port));
-  const bool connected = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
-  ::close(fd);
-  return connected;
-}
 
 std::vector<std::string> broker_arguments(const Broker& broker) { return broker.client_arguments(); }
 
@@ -59,7 +31,7 @@ std::filesystem::path bridge_program() {
 
 Broker::Broker(std::filesystem::path directory, const std::vector<std::string>& listener_options,
                std::vector<std::string> client_arguments)
-    : directory_(std::move(directory)), port_(free_port()), client_arguments_(std::move(client_arguments)) {
+    : directory_(std::move(directory)), port_(integration::free_loopback_port()), client_arguments_(std::move(client_arguments)) {
   std::ofstream config(directory_ / "mosquitto.conf");
   config << "listener " << port_ << " 127.0.0.1\n"
          << "allow_anonymous true\n"
@@ -84,7 +56,7 @@ void Broker::start() {
                                             directory_);
   // Generous: a loaded machine running User-Mode Linux starts programs slowly.
   const auto deadline = SteadyClock::now() + std::chrono::seconds(15) + integration::start_allowance();
-  while (!accepts_connections(port_)) {
+  while (!integration::loopback_accepts(port_)) {
     if (process_->wait_for_exit(std::chrono::milliseconds(0)) || SteadyClock::now() > deadline) {
       throw std::runtime_error("mosquitto did not start\n" + logs());
     }

@@ -1,14 +1,10 @@
 // wheeltec-mqtt against a broker address that never answers (a host that drops packets, a
 // cut route): the bridge keeps its loop running, gives up on each attempt after
 // broker.keepalive_s, keeps retrying, and stops at once when told to. Simulated on loopback
-// by a listener whose accept queue is full, so that the kernel drops every new SYN. No
-// CAN interface is needed: the bridge runs without a daemon.
+// by a listener whose accept queue is full (SilentLoopbackPort). No CAN interface is
+// needed: the bridge runs without a daemon.
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <csignal>
 #include <fstream>
@@ -17,51 +13,16 @@
 #include <gtest/gtest.h>
 
 #include "fleet.hpp"
+#include "loopback_tcp.hpp"
 #include "test_environment.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
 
-// A TCP port on 127.0.0.1 that takes no new connection: listen(0) with its one queue
-// place filled and never accepted.
-class SilentPort {
- public:
-  SilentPort() {
-    listener_ = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t length = sizeof address;
-    if (::bind(listener_, reinterpret_cast<sockaddr*>(&address), length) != 0 || ::listen(listener_, 0) != 0 ||
-        ::getsockname(listener_, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
-      throw std::runtime_error("cannot listen on 127.0.0.1");
-    }
-    port_ = ntohs(address.sin_port);
-    for (int i = 0; i < 3; ++i) {
-      const int filler = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK, 0);
-      ::connect(filler, reinterpret_cast<sockaddr*>(&address), sizeof address);
-      fillers_.push_back(filler);
-    }
-  }
-  ~SilentPort() {
-    for (const int filler : fillers_) ::close(filler);
-    ::close(listener_);
-  }
-  SilentPort(const SilentPort&) = delete;
-  SilentPort& operator=(const SilentPort&) = delete;
-
-  int port() const { return port_; }
-
- private:
-  int listener_ = -1;
-  int port_ = 0;
-  std::vector<int> fillers_;
-};
-
 TEST(MqttUnreachableBroker, EachAttemptEndsAfterTheKeepaliveAndAStopIsImmediate) {
   integration::TestDirectory directory;
-  SilentPort silent;
+  integration::SilentLoopbackPort silent;
   const auto config = directory.path() / "wheeltec-mqtt.json";
   std::ofstream(config) << fleet::Json{{"robot", "r1"},
                                        {"broker",
