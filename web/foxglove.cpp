@@ -163,12 +163,12 @@ const std::vector<Channel>& channels() {
   return all;
 }
 
-std::string server_info(std::string_view session_id) {
+std::string server_info(std::string_view session_id, const std::map<std::string, std::string>& metadata) {
   return Json{{"op", "serverInfo"},
               {"name", "wheeltec-web"},
               {"capabilities", {"clientPublish"}},
               {"supportedEncodings", {"json"}},
-              {"metadata", Json::object()},
+              {"metadata", metadata.empty() ? Json::object() : Json(metadata)},
               {"sessionId", session_id}}
       .dump();
 }

@@ -5,6 +5,7 @@
 // of what clients send. Pure: no I/O. docs/web.md lists the channels.
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -34,7 +35,8 @@ const std::vector<Channel>& channels();
 
 enum class Level { info = 0, warning = 1, error = 2 };
 
-std::string server_info(std::string_view session_id);
+// metadata: string values only, as the protocol wants them.
+std::string server_info(std::string_view session_id, const std::map<std::string, std::string>& metadata = {});
 std::string advertise();
 std::string status(Level level, std::string_view message, std::string_view id = {});
 

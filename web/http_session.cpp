@@ -69,6 +69,7 @@ void HttpSession::handle(Request request) {
   const bool keep_alive = request.keep_alive();
   if (path == "/api/status") return api_status(request);
   if (path == "/api/stop") return api_stop(request);
+  if (path == "/api/stats") return api_stats(request);
   const StaticFile* file = server_.files().find(path);
   if (file == nullptr) {
     return respond_text(http::status::not_found, fmt::format("no such page: {}", path.substr(0, 200)), keep_alive);
@@ -126,6 +127,21 @@ void HttpSession::api_status(const Request& request) {
                                                     "wheeltecd: " + ec.message(), keep_alive);
                         }
                         self->respond(http::status::ok, "application/json", status.dump() + "\n", keep_alive);
+                      });
+}
+
+void HttpSession::api_stats(const Request& request) {
+  const bool keep_alive = request.keep_alive();
+  if (request.method() != http::verb::get) {
+    return respond_text(http::status::method_not_allowed, "/api/stats takes GET", keep_alive, "GET");
+  }
+  server_.daemon_call("stats", nullptr,
+                      [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& stats) {
+                        if (ec) {
+                          return self->respond_text(http::status::service_unavailable,
+                                                    "wheeltecd: " + ec.message(), keep_alive);
+                        }
+                        self->respond(http::status::ok, "application/json", stats.dump() + "\n", keep_alive);
                       });
 }
 

@@ -53,7 +53,8 @@ void Viewer::start(beast::http::request<beast::http::string_body> request) {
     if (ec) return self->close(fmt::format("handshake failed: {}", ec.message()));
     spdlog::info("viewer {} ({}) connected, {}", self->id_, self->peer_,
                  self->may_drive_ ? "may drive" : "read-only");
-    self->enqueue({foxglove::server_info(self->id_), false, false});
+    self->enqueue({foxglove::server_info(self->id_, {{"low_battery_v", fmt::format("{}", self->server_.config().low_battery_v)}}),
+                   false, false});
     self->enqueue({foxglove::advertise(), false, false});
     if (!self->may_drive_) {
       self->send_status(foxglove::Level::info,

@@ -49,6 +49,9 @@ void apply_web_config(const json& document, WebConfig& config) {
     } else if (key == "stall_timeout_s") {
       if (!value.is_number()) fail(key, "expected a number, got " + std::string(value.type_name()));
       config.stall_timeout_s = value.get<double>();
+    } else if (key == "low_battery_v") {
+      if (!value.is_number()) fail(key, "expected a number, got " + std::string(value.type_name()));
+      config.low_battery_v = value.get<double>();
     } else if (key == "page_dir") {
       config.page_dir = text(value, key);
     } else if (key == "javascript_dir") {

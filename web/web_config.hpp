@@ -25,6 +25,7 @@ struct WebConfig {
   int queue_limit = 64;                   // telemetry messages waiting per viewer
   double stall_timeout_s = 5.0;           // a viewer full this long is disconnected
   std::string page_dir;                   // the page's files; empty: the installed ones
+  double low_battery_v = 10.8;            // the page's low-battery line (wheeltecd's telemetry.low_battery_v)
   std::string javascript_dir = "/usr/share/javascript";  // Debian's JavaScript libraries
   struct Log {
     std::string level = "info";
