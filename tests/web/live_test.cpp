@@ -224,4 +224,45 @@ TEST_F(WebLive, AClientThatNeverReadsIsDroppedWhileOthersKeepReceiving) {
   EXPECT_NE(web_->standard_error().find("stayed full"), std::string::npos);
 }
 
+TEST_F(WebLive, ChromiumShowsLiveDataTheJoystickDrivesAndClosingThePageStops) {
+  const auto profile = *directory_ / "chromium-profile";
+  const auto home = *directory_ / "chromium-home";
+  std::filesystem::create_directories(home);
+  std::filesystem::create_directories(WHEELTEC_WEB_SCREENSHOTS);
+  const std::string screenshot = std::string(WHEELTEC_WEB_SCREENSHOTS) + "/page.png";
+  std::filesystem::remove(screenshot);
+  ChildProcess chromium("chromium", "/usr/bin/chromium",
+                        {"--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                         "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                         "--user-data-dir=" + profile.string(), "--window-size=1280,1100",
+                         "--remote-debugging-port=9223", base_url() + "/?token=" + kToken},
+                        directory_->path(), {{"HOME", home.string()}});
+  CanBus bus(integration::test_interface());
+  ChildProcess driver("browser", "/usr/bin/node", {WHEELTEC_WEB_CLIENTS "/browser.cjs", "9223", screenshot, "2000"},
+                      directory_->path(), {{"NODE_PATH", WHEELTEC_WEB_NODE_MODULES}});
+  const auto moving = bus.wait_for(is_moving_frame, 45s);
+  ASSERT_TRUE(moving) << "the joystick did not drive\n" << driver.output_report() << chromium.output_report();
+  EXPECT_EQ(integration::control_x(moving->frame), 500);  // full forward: 0.5 m/s
+  const auto status = driver.wait_for_exit(30s);
+  ASSERT_TRUE(status) << driver.output_report();
+  ASSERT_TRUE(status->exited_with(0)) << driver.output_report() << chromium.output_report();
+  const auto closed = integration::WallClock::now();
+  bus.discard_pending();
+  const auto zero = bus.wait_for(
+      [](const wheeltec::CanFrame& frame) { return integration::is_zero_control_frame(frame); }, 2s);
+  ASSERT_TRUE(zero) << "closing the page did not stop the robot";
+  EXPECT_LT(integration::seconds_between(closed, zero->time), 0.6);  // within the deadman
+  const std::string out = driver.standard_output();
+  const auto live_line = out.substr(0, out.find('\n'));
+  const json live = json::parse(live_line, nullptr, false);
+  ASSERT_FALSE(live.is_discarded()) << out;
+  EXPECT_GT(live["dom"]["seq"].get<int>(), 20) << live_line;
+  EXPECT_NE(live["dom"]["bus"].get<std::string>().find("up"), std::string::npos) << live_line;
+  EXPECT_EQ(live["dom"]["online"], "yes") << live_line;
+  EXPECT_GE(live["dom"]["plots"].get<int>(), 6) << live_line;  // dygraphs drew its canvases
+  ASSERT_TRUE(std::filesystem::exists(screenshot));
+  EXPECT_GT(std::filesystem::file_size(screenshot), 20000u);  // a rendered page, not a blank one
+  chromium.terminate();
+}
+
 }  // namespace
