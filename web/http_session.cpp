@@ -124,7 +124,7 @@ void HttpSession::api_status(const Request& request) {
                       [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& status) {
                         if (ec) {
                           return self->respond_text(http::status::service_unavailable,
-                                                    "wheeltecd: " + ec.message(), keep_alive);
+                                                    self->daemon_problem(ec), keep_alive);
                         }
                         self->respond(http::status::ok, "application/json", status.dump() + "\n", keep_alive);
                       });
@@ -139,7 +139,7 @@ void HttpSession::api_stats(const Request& request) {
                       [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& stats) {
                         if (ec) {
                           return self->respond_text(http::status::service_unavailable,
-                                                    "wheeltecd: " + ec.message(), keep_alive);
+                                                    self->daemon_problem(ec), keep_alive);
                         }
                         self->respond(http::status::ok, "application/json", stats.dump() + "\n", keep_alive);
                       });
@@ -154,10 +154,17 @@ void HttpSession::api_stop(const Request& request) {
                       [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& result) {
                         if (ec) {
                           return self->respond_text(http::status::service_unavailable,
-                                                    "stop failed: wheeltecd: " + ec.message(), keep_alive);
+                                                    "stop failed: " + self->daemon_problem(ec), keep_alive);
                         }
                         self->respond(http::status::ok, "application/json", result.dump() + "\n", keep_alive);
                       });
+}
+
+std::string HttpSession::daemon_problem(boost::system::error_code ec) const {
+  if (ec == boost::asio::error::not_connected) {
+    return fmt::format("wheeltecd is not reachable at {}", server_.config().socket);
+  }
+  return "wheeltecd: " + ec.message();
 }
 
 void HttpSession::respond_text(http::status status, std::string text, bool keep_alive, std::string_view allow) {

@@ -36,6 +36,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void api_status(const Request& request);
   void api_stop(const Request& request);
   void api_stats(const Request& request);
+  std::string daemon_problem(boost::system::error_code ec) const;
   void respond(boost::beast::http::status status, std::string content_type, std::string body, bool keep_alive,
                std::string_view allow = {});
   void respond_text(boost::beast::http::status status, std::string text, bool keep_alive, std::string_view allow = {});
