@@ -70,6 +70,7 @@ function onTelemetry(r) {
   $('battery').className = r.battery.low ? 'bad' : '';
   $('pose').textContent = `x ${r.odom.x.toFixed(2)} m, y ${r.odom.y.toFixed(2)} m, yaw ${(r.odom.yaw * 180 / Math.PI).toFixed(0)}°`;
   document.body.dataset.live = 'true';
+  document.body.dataset.records = String(records);  // received by this page
   redraw();
 }
 

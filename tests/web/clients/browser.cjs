@@ -53,17 +53,17 @@ async function main() {
   const evaluate = async (expression) => (await call('Runtime.evaluate', { expression, returnByValue: true })).result.result.value;
 
   const readDom = `(() => { const t = (id) => document.getElementById(id).textContent;
-    return { live: document.body.dataset.live === 'true', seq: Number(t('seq')), bus: t('bus-state'),
+    return { live: document.body.dataset.live === 'true', records: Number(document.body.dataset.records || 0), seq: Number(t('seq')), bus: t('bus-state'),
              online: t('online'), velocity: t('velocity'), battery: t('battery'), connection: t('connection'),
              mode: t('mode'), plots: document.querySelectorAll('#plots canvas').length }; })()`;
   let dom = null;
-  for (let i = 0; i < 100; ++i) {
+  for (let i = 0; i < 150; ++i) {
     dom = await evaluate(readDom);
-    if (dom && dom.live && dom.seq > 20 && dom.bus.includes('up')) break;
+    if (dom && dom.live && dom.records > 100 && dom.bus.includes('up')) break;  // 2 s of plots at 50 Hz
     await sleep(200);
   }
   if (!dom || !dom.live) fail(`the page shows no live data: ${JSON.stringify(dom)}`);
-  await sleep(1500);  // let the plots fill a little
+  await sleep(500);  // the plots redraw at most every 200 ms
   const shot = await call('Page.captureScreenshot', { format: 'png' });
   fs.writeFileSync(screenshot, Buffer.from(shot.result.data, 'base64'));
   say({ event: 'live', dom: await evaluate(readDom) });
