@@ -15,6 +15,9 @@ namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 
 constexpr std::size_t kMaxClientMessage = 64 * 1024;  // spec section 6: larger ones close with 1009
+// What one viewer may hold, so that repeated requests cannot grow the server without bound.
+constexpr std::size_t kMaxSubscriptions = 256;
+constexpr std::size_t kMaxClientChannels = 16;
 
 std::string refusal_text(boost::system::error_code ec, const client::Json& error) {
   if (ec.category() == client::rpc_category()) {
@@ -104,6 +107,11 @@ void Viewer::handle_text(std::string_view text) {
                     "advertise");
         continue;
       }
+      if (client_channels_.size() >= kMaxClientChannels && client_channels_.count(channel.id) == 0) {
+        send_status(foxglove::Level::error, fmt::format("advertise: at most {} client channels", kMaxClientChannels),
+                    "advertise");
+        return;
+      }
       client_channels_[channel.id] = channel.topic;
     }
     return;
@@ -120,6 +128,11 @@ void Viewer::subscribe(const foxglove::Subscribe& request) {
     if (!known) {
       send_status(foxglove::Level::error, fmt::format("subscribe: no channel {}", entry.channel_id), "subscribe");
       continue;
+    }
+    if (subscriptions_.size() >= kMaxSubscriptions) {
+      send_status(foxglove::Level::error, fmt::format("subscribe: at most {} subscriptions", kMaxSubscriptions),
+                  "subscribe");
+      return;
     }
     if (subscriptions_.count(entry.subscription_id) != 0) {
       send_status(foxglove::Level::error, fmt::format("subscribe: subscription id {} is in use", entry.subscription_id),

@@ -73,6 +73,8 @@ async function main() {
   say({ event: 'driving' });
   await sleep(Number(holdMs));
   say({ event: 'drive-state', text: await evaluate(`document.getElementById('drive-state').textContent + ' | ' + document.getElementById('refusal').textContent`) });
+  const driving = await call('Page.captureScreenshot', { format: 'png' });
+  fs.writeFileSync(screenshot.replace(/\.png$/, '-driving.png'), Buffer.from(driving.result.data, 'base64'));
   // Closing the tab while the key is still held: the robot must stop within the deadman.
   await call('Page.close');
   say({ event: 'closed' });

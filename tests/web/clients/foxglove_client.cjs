@@ -151,7 +151,7 @@ async function neverReads() {
   socket.write(`GET / HTTP/1.1\r\nHost: ${target.host}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n` +
                `Sec-WebSocket-Key: ${key}\r\nSec-WebSocket-Version: 13\r\nSec-WebSocket-Protocol: ${SUBPROTOCOL}\r\n\r\n`);
   // Telemetry channels only (1 telemetry, 3 odom, 4 imu): the ones that may be dropped for it.
-  const subscriptions = Array.from({ length: 200 }, (_, i) => ({ id: i, channelId: [1, 3, 4][i % 3] }));
+  const subscriptions = Array.from({ length: 240 }, (_, i) => ({ id: i, channelId: [1, 3, 4][i % 3] }));
   const text = Buffer.from(JSON.stringify({ op: 'subscribe', subscriptions }));
   const mask = crypto.randomBytes(4);
   const header = Buffer.from([0x81, 0x80 | 126, text.length >> 8, text.length & 0xff]);
