@@ -4,6 +4,7 @@
 
 #include <csignal>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <variant>
 
@@ -19,6 +20,22 @@
 #ifndef WHEELTEC_WEB_PAGE_DIR
 #define WHEELTEC_WEB_PAGE_DIR "/usr/share/wheeltec-web"
 #endif
+
+namespace {
+
+// The installed page: PREFIX/share/wheeltec-web next to PREFIX/bin/wheeltec-web, whatever
+// the prefix (the .deb's /usr or cmake --install's); the configured path otherwise.
+std::string installed_page_dir() {
+  std::error_code error;
+  const auto program = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    const auto beside = program.parent_path().parent_path() / "share" / "wheeltec-web";
+    if (std::filesystem::exists(beside / "index.html", error)) return beside.string();
+  }
+  return WHEELTEC_WEB_PAGE_DIR;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace wheeltec::web;
@@ -37,7 +54,7 @@ int main(int argc, char** argv) {
     std::cerr << "wheeltec-web: " << error.what() << "\n";
     return 2;
   }
-  if (config.page_dir.empty()) config.page_dir = WHEELTEC_WEB_PAGE_DIR;
+  if (config.page_dir.empty()) config.page_dir = installed_page_dir();
 
   wheeltec::service::setup_logging(config.log.level, "wheeltec-web");
   try {
