@@ -103,8 +103,12 @@ void HttpSession::upgrade(Request request) {
   std::optional<std::string> token;
   if (const auto authorization = header(request, http::field::authorization)) token = bearer_token(*authorization);
   if (!token) token = query_parameter(target, "token");
-  const bool may_drive = server_.token_matches(token);
-  if (token && !may_drive) return respond_text(http::status::unauthorized, "wrong token", false);
+  const bool token_ok = server_.token_matches(token);
+  if (token && !token_ok) return respond_text(http::status::unauthorized, "wrong token", false);
+  boost::system::error_code ec;
+  const auto peer = stream_.socket().remote_endpoint(ec);
+  const bool trusted_local = server_.config().trust_localhost && !ec && peer.address().is_loopback();
+  const bool may_drive = token_ok || trusted_local;
   if (!server_.viewer_slot_free()) {
     return respond_text(http::status::service_unavailable,
                         fmt::format("too many viewers (max_clients {})", server_.config().max_clients), false);

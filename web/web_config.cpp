@@ -42,6 +42,9 @@ void apply_web_config(const json& document, WebConfig& config) {
       if (!value.is_array()) fail(key, "expected an array of strings, got " + std::string(value.type_name()));
       config.allow_origins.clear();
       for (const json& origin : value) config.allow_origins.push_back(text(origin, key + "[]"));
+    } else if (key == "trust_localhost") {
+      if (!value.is_boolean()) fail(key, "expected a boolean, got " + std::string(value.type_name()));
+      config.trust_localhost = value.get<bool>();
     } else if (key == "max_clients") {
       config.max_clients = integer(value, key, 1, 1024);
     } else if (key == "queue_limit") {

@@ -21,6 +21,9 @@ struct WebConfig {
   ListenAddress listen{"127.0.0.1", 8080};
   std::optional<std::string> token_file;  // none: nobody may drive
   std::vector<std::string> allow_origins;
+  // Opt-in: viewers connecting from the loopback address may drive without the token. Only
+  // for a robot whose port nobody else reaches (no reverse proxy, no ssh -L for others).
+  bool trust_localhost = false;
   int max_clients = 16;                   // WebSocket viewers at once
   int queue_limit = 64;                   // telemetry messages waiting per viewer
   double stall_timeout_s = 5.0;           // a viewer full this long is disconnected

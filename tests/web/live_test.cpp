@@ -65,6 +65,13 @@ bool is_moving_frame(const wheeltec::CanFrame& frame) {
   return integration::is_control_frame(frame) && !integration::is_zero_control_frame(frame);
 }
 
+// Waits until the daemon sends zero velocity (an earlier test's driver has been released),
+// then forgets what the bus carried so far.
+void wait_until_still(CanBus& bus) {
+  bus.wait_for([](const wheeltec::CanFrame& frame) { return integration::is_zero_control_frame(frame); }, 2s);
+  bus.discard_pending();
+}
+
 class WebLive : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -108,8 +115,8 @@ class WebLive : public ::testing::Test {
 
   // Runs the Foxglove test client in MODE; its one JSON line.
   static json run_client(const std::string& mode, const std::vector<std::string>& extra = {},
-                         std::chrono::milliseconds timeout = 40s) {
-    std::vector<std::string> arguments = {WHEELTEC_WEB_CLIENTS "/foxglove_client.cjs", mode, ws_url()};
+                         std::chrono::milliseconds timeout = 40s, const std::string& url = ws_url()) {
+    std::vector<std::string> arguments = {WHEELTEC_WEB_CLIENTS "/foxglove_client.cjs", mode, url};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     const auto done = integration::run_program("/usr/bin/node", arguments, directory_->path(), timeout,
                                                {{"NODE_PATH", WHEELTEC_WEB_NODE_MODULES}});
@@ -195,11 +202,36 @@ TEST_F(WebLive, FoxgloveClientDrivesAndTheDeadmanStopsWhenItLeaves) {
   EXPECT_LT(integration::seconds_between(left, zero->time), 0.6);  // command_timeout_s 0.5 at most
 }
 
+TEST_F(WebLive, ASecondDriverIsRefusedWith32001) {
+  const json result = run_client("second-driver", {kToken});
+  EXPECT_EQ(result["ok"], true) << result.dump(2);
+}
+
 TEST_F(WebLive, PublishWithoutTokenIsRefusedWithAStatusError) {
   CanBus bus(integration::test_interface());
+  wait_until_still(bus);
   const json result = run_client("read-only");
   EXPECT_EQ(result["ok"], true) << result.dump(2);
   EXPECT_TRUE(bus.take_pending(is_moving_frame).empty());
+}
+
+TEST_F(WebLive, TrustingLocalhostIsAnOptInThatLetsLoopbackViewersDriveWithoutToken) {
+  const auto config_file = *directory_ / "trusting.json";
+  std::ofstream(config_file) << json{{"trust_localhost", true}}.dump();
+  ChildProcess trusting("wheeltec-web-trusting", WHEELTEC_WEB_PATH,
+                        {"--config", config_file.string(), "--socket", gateway_->socket_path().string(), "--listen",
+                         "127.0.0.1:18081", "--page-dir", WHEELTEC_WEB_PAGE_SOURCE},
+                        directory_->path());
+  std::this_thread::sleep_for(500ms);
+  CanBus bus(integration::test_interface());
+  wait_until_still(bus);
+  const json result = run_client("drive", {}, 40s, "ws://127.0.0.1:18081");
+  EXPECT_EQ(result["ok"], true) << result.dump(2) << trusting.output_report();
+  EXPECT_FALSE(bus.take_pending(is_moving_frame).empty());
+  // The suite's own instance does not trust localhost: the same client is refused there.
+  wait_until_still(bus);
+  const json refused = run_client("read-only");
+  EXPECT_EQ(refused["ok"], true) << refused.dump(2);
 }
 
 TEST_F(WebLive, ForeignOriginsWrongTokensAndOtherSubprotocolsAreRefused) {

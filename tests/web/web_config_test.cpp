@@ -12,12 +12,13 @@ TEST(WebConfig, DefaultsAreValid) {
   EXPECT_EQ(config.listen.address, "127.0.0.1");
   EXPECT_EQ(config.listen.port, 8080);
   EXPECT_FALSE(config.token_file);
+  EXPECT_FALSE(config.trust_localhost);  // an explicit opt-in
 }
 
 TEST(WebConfig, AppliesEveryKey) {
   WebConfig config;
   apply_web_config(nlohmann::json::parse(R"({"socket":"/s","listen":"0.0.0.0:9000","token_file":"/t",
-      "allow_origins":["https://app.foxglove.dev"],"max_clients":4,"queue_limit":8,"stall_timeout_s":2,
+      "allow_origins":["https://app.foxglove.dev"],"trust_localhost":true,"max_clients":4,"queue_limit":8,"stall_timeout_s":2,
       "low_battery_v":21.0,"page_dir":"/p","javascript_dir":"/j","log":{"level":"debug"}})"),
                    config);
   EXPECT_NO_THROW(validate_web_config(config));
@@ -25,6 +26,7 @@ TEST(WebConfig, AppliesEveryKey) {
   EXPECT_EQ(config.listen.port, 9000);
   EXPECT_EQ(config.token_file, "/t");
   EXPECT_EQ(config.allow_origins, std::vector<std::string>{"https://app.foxglove.dev"});
+  EXPECT_TRUE(config.trust_localhost);
   EXPECT_EQ(config.max_clients, 4);
   EXPECT_EQ(config.queue_limit, 8);
   EXPECT_DOUBLE_EQ(config.low_battery_v, 21.0);
@@ -50,6 +52,7 @@ TEST(WebConfig, NamesTheKeyOfAnError) {
   EXPECT_EQ(key_of_error(R"({"log":{"level":"loud"}})"), "log.level");
   EXPECT_EQ(key_of_error(R"({"log":{"lvl":"info"}})"), "log.lvl");
   EXPECT_EQ(key_of_error(R"({"stall_timeout_s":0})"), "stall_timeout_s");
+  EXPECT_EQ(key_of_error(R"({"trust_localhost":"yes"})"), "trust_localhost");
 }
 
 }  // namespace

@@ -178,6 +178,25 @@ async function neverReads() {
   done(closed && steady, !closed ? 'the reader-less client was not disconnected' : steady ? undefined : 'stalled');
 }
 
-const modes = { live, drive: live, 'read-only': readOnly, origins, malformed, oversized, 'never-reads': neverReads };
+// Two viewers with the token: the first drives, the second is refused by the daemon (-32001),
+// because each viewer drives through a daemon connection of its own.
+async function secondDriver() {
+  const first = await foxglove(withToken(url));
+  const second = await foxglove(withToken(url));
+  const advertise = (c) => c.client.advertise({ topic: '/wheeltec/cmd_vel', encoding: 'json', schemaName: 'wheeltec.CmdVel' });
+  const a = advertise(first), b = advertise(second);
+  const drive = (c, channel) => c.client.sendMessage(channel, new TextEncoder().encode('{"vx":0.2}'));
+  for (let i = 0; i < 5; ++i) { drive(first, a); await sleep(100); }
+  for (let i = 0; i < 10 && !second.statuses.some((s) => s.level === 2); ++i) {
+    drive(first, a); drive(second, b); await sleep(100);
+  }
+  result.first = first.statuses.filter((s) => s.level === 2).map((s) => s.message);
+  result.second = second.statuses.filter((s) => s.level === 2).map((s) => s.message);
+  first.client.close();
+  second.client.close();
+  done(result.first.length === 0 && result.second.some((m) => m.includes('-32001')));
+}
+
+const modes = { 'second-driver': secondDriver, live, drive: live, 'read-only': readOnly, origins, malformed, oversized, 'never-reads': neverReads };
 if (!modes[mode]) done(false, `unknown mode ${mode}`);
 modes[mode]().catch((error) => done(false, String(error && error.stack || error)));
