@@ -273,10 +273,10 @@ TEST_F(WebLive, ChromiumShowsLiveDataTheJoystickDrivesAndClosingThePageStops) {
   CanBus bus(integration::test_interface());
   ChildProcess driver("browser", "/usr/bin/node", {WHEELTEC_WEB_CLIENTS "/browser.cjs", "9223", screenshot, "2000"},
                       directory_->path(), {{"NODE_PATH", WHEELTEC_WEB_NODE_MODULES}});
-  const auto moving = bus.wait_for(is_moving_frame, 45s);
+  const auto moving = bus.wait_for(is_moving_frame, 100s);
   ASSERT_TRUE(moving) << "the joystick did not drive\n" << driver.output_report() << chromium.output_report();
   EXPECT_EQ(integration::control_x(moving->frame), 500);  // full forward: 0.5 m/s
-  const auto status = driver.wait_for_exit(30s);
+  const auto status = driver.wait_for_exit(60s);
   ASSERT_TRUE(status) << driver.output_report();
   ASSERT_TRUE(status->exited_with(0)) << driver.output_report() << chromium.output_report();
   const auto closed = integration::WallClock::now();

@@ -12,7 +12,7 @@ const [port, screenshot, holdMs] = process.argv.slice(2);
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 const say = (object) => console.log(JSON.stringify(object));
 function fail(why) { say({ event: 'failed', why }); process.exit(1); }
-setTimeout(() => fail('timed out'), 60000).unref();
+setTimeout(() => fail('timed out'), 100000).unref();  // Chromium in User-Mode Linux beside a CI run is slow
 
 function getJson(path) {
   return new Promise((resolve, reject) => {
@@ -57,7 +57,7 @@ async function main() {
              online: t('online'), velocity: t('velocity'), battery: t('battery'), connection: t('connection'),
              mode: t('mode'), plots: document.querySelectorAll('#plots canvas').length }; })()`;
   let dom = null;
-  for (let i = 0; i < 150; ++i) {
+  for (let i = 0; i < 300; ++i) {
     dom = await evaluate(readDom);
     if (dom && dom.live && dom.records > 100 && dom.bus.includes('up')) break;  // 2 s of plots at 50 Hz
     await sleep(200);

@@ -173,7 +173,8 @@ async function neverReads() {
   socket.resume();
   for (let i = 0; i < 50 && !closed; ++i) await sleep(100);
   result.slow_client_closed = closed;
-  const steady = counts.every((c, i) => i === 0 || c > counts[i - 1]);
+  // Kept receiving: something in every 2 s window (a loaded CI machine may pause it briefly).
+  const steady = counts.every((c, i) => i < 2 || c > counts[i - 2]);
   client.close();
   done(closed && steady, !closed ? 'the reader-less client was not disconnected' : steady ? undefined : 'stalled');
 }
