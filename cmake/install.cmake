@@ -11,6 +11,9 @@ install(FILES systemd/wheeltecd.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR}
 if(TARGET wheeltec-mqtt)
   install(FILES systemd/wheeltec-mqtt.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
 endif()
+if(TARGET wheeltec-web)
+  install(FILES systemd/wheeltec-web.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
+endif()
 install(FILES systemd/80-wheeltec-can.network DESTINATION ${WHEELTEC_NETWORKD_DIR})
 # Absolute: the unit and the daemon's default look for /etc/wheeltecd/wheeltecd.json.
 set(WHEELTEC_CONFIG_DIR "/etc/wheeltecd" CACHE PATH "directory of wheeltecd.json")
@@ -24,6 +27,9 @@ find_program(GZIP_PROGRAM gzip REQUIRED)
 set(WHEELTEC_MAN_PAGES man/wheeltecd.8 man/wheeltecctl.1 man/wheeltec-emu.1)
 if(TARGET wheeltec-mqtt)
   list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-mqtt.1)
+endif()
+if(TARGET wheeltec-web)
+  list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-web.1)
 endif()
 set(WHEELTEC_COMPRESSED_FILES)
 foreach(page IN LISTS WHEELTEC_MAN_PAGES)
@@ -65,14 +71,17 @@ JSON-RPC 2.0 to local clients over a Unix socket, with a systemd service that
 runs it as the unprivileged user wheeltec. wheeltecctl reads status and
 telemetry and drives the robot from the command line; wheeltec-emu emulates
 the chassis controller on a virtual CAN interface; wheeltec-mqtt bridges the
-robot to an MQTT broker for a fleet (its service is installed disabled).")
+robot to an MQTT broker for a fleet; wheeltec-web serves a live view (plots,
+odometry, joystick) to browsers and to Foxglove (both services are installed
+disabled).")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION misc)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser")
+# libjs-dygraphs: wheeltec-web serves its plotting library from /usr/share/javascript.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs")
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "can-utils, iproute2")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
   ${PROJECT_SOURCE_DIR}/packaging/debian/conffiles

@@ -16,7 +16,8 @@ readonly WHEELTEC_VCAN_PACKAGES=(can-utils iproute2 kmod user-mode-linux)
 # scripts/systemd-uml) systemd as PID 1 in UML, cpack's .deb installed with dpkg, users
 # made with useradd/usermod, runuser, jq.
 readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd util-linux jq
-  mosquitto mosquitto-clients openssl)  # the broker, its clients and TLS certificates of the wheeltec-mqtt suites
+  mosquitto mosquitto-clients openssl  # the broker, its clients and TLS certificates of the wheeltec-mqtt suites
+  libjs-dygraphs chromium)  # wheeltec-web's plots and its browser suite (its Foxglove suite needs node and npm)
 
 # Prints the packages among the arguments that are not installed.
 missing_packages() {

@@ -12,10 +12,15 @@ work=$(mktemp -d)
 trap 'rm -rf -- "$work"' EXIT
 
 status=0
+# Every unit first, so that one that Requires= another (wheeltec-web: wheeltecd) finds it.
 for unit in "$REPO_ROOT"/systemd/*.service; do
   name=$(basename "$unit")
   sed -e "s|^ExecStart=/usr/bin/wheeltecd|ExecStart=$BUILD_DIR/daemon/wheeltecd|" \
-      -e "s|^ExecStart=/usr/bin/wheeltec-mqtt|ExecStart=$BUILD_DIR/mqtt/wheeltec-mqtt|" "$unit" >"$work/$name"
+      -e "s|^ExecStart=/usr/bin/wheeltec-mqtt|ExecStart=$BUILD_DIR/mqtt/wheeltec-mqtt|" \
+      -e "s|^ExecStart=/usr/bin/wheeltec-web|ExecStart=$BUILD_DIR/web/wheeltec-web|" "$unit" >"$work/$name"
+done
+for unit in "$REPO_ROOT"/systemd/*.service; do
+  name=$(basename "$unit")
   if output=$(systemd-analyze verify --man=no "$work/$name" 2>&1) && [[ -z $output ]]; then
     echo "verify $name: OK"
   else

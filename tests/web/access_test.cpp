@@ -1,0 +1,72 @@
+#include "access.hpp"
+
+#include <gtest/gtest.h>
+
+#include "wheeltec/config.hpp"
+
+namespace wheeltec::web {
+namespace {
+
+TEST(Access, BearerToken) {
+  EXPECT_EQ(bearer_token("Bearer abc"), "abc");
+  EXPECT_EQ(bearer_token("bearer  abc "), "abc");
+  EXPECT_EQ(bearer_token("Basic abc"), std::nullopt);
+  EXPECT_EQ(bearer_token("Bearer "), std::nullopt);
+  EXPECT_EQ(bearer_token(""), std::nullopt);
+}
+
+TEST(Access, TargetPathAndQuery) {
+  EXPECT_EQ(target_path("/foxglove?token=x"), "/foxglove");
+  EXPECT_EQ(target_path("/"), "/");
+  EXPECT_EQ(query_parameter("/?token=a%2Bb%20c&x=1", "token"), "a+b c");
+  EXPECT_EQ(query_parameter("/?x=1&token=t#frag", "token"), "t");
+  EXPECT_EQ(query_parameter("/?tokens=t", "token"), std::nullopt);
+  EXPECT_EQ(query_parameter("/?token", "token"), "");
+  EXPECT_EQ(query_parameter("/", "token"), std::nullopt);
+  EXPECT_EQ(query_parameter("/?token=%", "token"), "%");
+  EXPECT_EQ(query_parameter("/?token=%4", "token"), "%4");
+}
+
+TEST(Access, TokensMustMatchExactly) {
+  EXPECT_TRUE(tokens_equal("secret", "secret"));
+  EXPECT_FALSE(tokens_equal("secreT", "secret"));
+  EXPECT_FALSE(tokens_equal("secret1", "secret"));
+  EXPECT_FALSE(tokens_equal("", "secret"));
+  EXPECT_FALSE(tokens_equal("", ""));  // an empty token never authorises
+  EXPECT_EQ(token_from_file_content("  tok en\n\n"), "tok en");
+}
+
+TEST(Access, OriginCheck) {
+  const std::vector<std::string> allowed = {"https://app.foxglove.dev"};
+  EXPECT_TRUE(origin_allowed(std::nullopt, "robot:8080", allowed));
+  EXPECT_TRUE(origin_allowed("http://robot:8080", "robot:8080", allowed));
+  EXPECT_TRUE(origin_allowed("http://ROBOT:8080/", "robot:8080", allowed));
+  EXPECT_TRUE(origin_allowed("https://app.foxglove.dev", "robot:8080", allowed));
+  EXPECT_FALSE(origin_allowed("http://evil.example", "robot:8080", allowed));
+  EXPECT_FALSE(origin_allowed("http://robot:8081", "robot:8080", allowed));
+  EXPECT_FALSE(origin_allowed("null", "robot:8080", allowed));
+  EXPECT_FALSE(origin_allowed("http://robot:8080", "", {}));
+  EXPECT_FALSE(origin_allowed("https://app.foxglove.dev.evil.example", "robot:8080", allowed));
+}
+
+TEST(Access, Subprotocol) {
+  EXPECT_TRUE(offers_subprotocol("foxglove.websocket.v1", "foxglove.websocket.v1"));
+  EXPECT_TRUE(offers_subprotocol("x, foxglove.websocket.v1", "foxglove.websocket.v1"));
+  EXPECT_FALSE(offers_subprotocol("foxglove.websocket.v2", "foxglove.websocket.v1"));
+  EXPECT_FALSE(offers_subprotocol("", "foxglove.websocket.v1"));
+}
+
+TEST(Access, ListenAddress) {
+  const ListenAddress a = parse_listen_address("127.0.0.1:8080", "--listen");
+  EXPECT_EQ(a.address, "127.0.0.1");
+  EXPECT_EQ(a.port, 8080);
+  const ListenAddress b = parse_listen_address("[::1]:0", "--listen");
+  EXPECT_EQ(b.address, "::1");
+  EXPECT_EQ(b.port, 0);
+  for (const char* bad : {"8080", ":8080", "host:", "host:65536", "host:80x", "[::1:80"}) {
+    EXPECT_THROW(parse_listen_address(bad, "--listen"), ConfigError) << bad;
+  }
+}
+
+}  // namespace
+}  // namespace wheeltec::web

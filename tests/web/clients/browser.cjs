@@ -1,0 +1,83 @@
+// Drives Debian's headless Chromium through its DevTools protocol (over the `ws` package)
+// for tests/web/live_test.cpp: waits until wheeltec-web's page shows live telemetry, takes
+// a screenshot, holds the Up arrow key (the joystick) for HOLD_MS, then closes the page.
+//   node browser.cjs DEVTOOLS_PORT SCREENSHOT.png HOLD_MS
+// Prints JSON lines: {"event":"live",...}, {"event":"driving"}, {"event":"closed"}; exit 0 on success.
+'use strict';
+const fs = require('fs');
+const http = require('http');
+const WebSocket = require('ws');
+
+const [port, screenshot, holdMs] = process.argv.slice(2);
+const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+const say = (object) => console.log(JSON.stringify(object));
+function fail(why) { say({ event: 'failed', why }); process.exit(1); }
+setTimeout(() => fail('timed out'), 100000).unref();  // Chromium in User-Mode Linux beside a CI run is slow
+
+function getJson(path) {
+  return new Promise((resolve, reject) => {
+    http.get({ host: '127.0.0.1', port: Number(port), path }, (response) => {
+      let body = '';
+      response.on('data', (chunk) => (body += chunk));
+      response.on('end', () => { try { resolve(JSON.parse(body)); } catch (error) { reject(error); } });
+    }).on('error', reject);
+  });
+}
+
+async function pageTarget() {
+  for (let i = 0; i < 150; ++i) {
+    try {
+      const page = (await getJson('/json/list')).find((target) => target.type === 'page');
+      if (page) return page;
+    } catch (error) { /* not up yet */ }
+    await sleep(200);
+  }
+  fail('no page target in chromium');
+}
+
+async function main() {
+  const target = await pageTarget();
+  const ws = new WebSocket(target.webSocketDebuggerUrl, { perMessageDeflate: false });
+  await new Promise((resolve, reject) => { ws.on('open', resolve); ws.on('error', reject); });
+  let nextId = 1;
+  const pending = new Map();
+  ws.on('message', (data) => {
+    const message = JSON.parse(data);
+    if (message.id && pending.has(message.id)) { pending.get(message.id)(message); pending.delete(message.id); }
+  });
+  const call = (method, params = {}) => new Promise((resolve) => {
+    const id = nextId++;
+    pending.set(id, resolve);
+    ws.send(JSON.stringify({ id, method, params }));
+  });
+  const evaluate = async (expression) => (await call('Runtime.evaluate', { expression, returnByValue: true })).result.result.value;
+
+  const readDom = `(() => { const t = (id) => document.getElementById(id).textContent;
+    return { live: document.body.dataset.live === 'true', records: Number(document.body.dataset.records || 0), seq: Number(t('seq')), bus: t('bus-state'),
+             online: t('online'), velocity: t('velocity'), battery: t('battery'), connection: t('connection'),
+             mode: t('mode'), plots: document.querySelectorAll('#plots canvas').length }; })()`;
+  let dom = null;
+  for (let i = 0; i < 300; ++i) {
+    dom = await evaluate(readDom);
+    if (dom && dom.live && dom.records > 100 && dom.bus.includes('up')) break;  // 2 s of plots at 50 Hz
+    await sleep(200);
+  }
+  if (!dom || !dom.live) fail(`the page shows no live data: ${JSON.stringify(dom)}`);
+  await sleep(500);  // the plots redraw at most every 200 ms
+  const shot = await call('Page.captureScreenshot', { format: 'png' });
+  fs.writeFileSync(screenshot, Buffer.from(shot.result.data, 'base64'));
+  say({ event: 'live', dom: await evaluate(readDom) });
+
+  await call('Page.bringToFront');
+  await call('Input.dispatchKeyEvent', { type: 'rawKeyDown', key: 'ArrowUp', code: 'ArrowUp', windowsVirtualKeyCode: 38 });
+  say({ event: 'driving' });
+  await sleep(Number(holdMs));
+  say({ event: 'drive-state', text: await evaluate(`document.getElementById('drive-state').textContent + ' | ' + document.getElementById('refusal').textContent`) });
+  const driving = await call('Page.captureScreenshot', { format: 'png' });
+  fs.writeFileSync(screenshot.replace(/\.png$/, '-driving.png'), Buffer.from(driving.result.data, 'base64'));
+  // Closing the tab while the key is still held: the robot must stop within the deadman.
+  await call('Page.close');
+  say({ event: 'closed' });
+  process.exit(0);
+}
+main().catch((error) => fail(String(error && error.stack || error)));

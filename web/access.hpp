@@ -1,0 +1,45 @@
+#pragma once
+
+// Who may do what on wheeltec-web (spec section 6): the driving token, the Origin check
+// of WebSocket upgrades, and the parts of a request target they read. Pure: no I/O.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace wheeltec::web {
+
+// "Bearer TOKEN" (scheme case-insensitive) -> TOKEN.
+std::optional<std::string> bearer_token(std::string_view authorization);
+
+// The path of a request target ("/foxglove?token=x" -> "/foxglove").
+std::string_view target_path(std::string_view target);
+
+// The percent-decoded value of `name` in the target's query, if present.
+std::optional<std::string> query_parameter(std::string_view target, std::string_view name);
+
+// Equal, in a time that does not depend on where they differ.
+bool tokens_equal(std::string_view given, std::string_view expected);
+
+// Whether a WebSocket upgrade with this Origin header may proceed: none (a desktop
+// client), the server's own origin (http(s)://HOST where HOST is the request's Host
+// header), or one of `allowed` (compared without case and trailing slash).
+bool origin_allowed(std::optional<std::string_view> origin, std::string_view host,
+                    const std::vector<std::string>& allowed);
+
+// Whether a Sec-WebSocket-Protocol header (a comma-separated list) offers `protocol`.
+bool offers_subprotocol(std::string_view header, std::string_view protocol);
+
+// The token file's content with surrounding whitespace stripped.
+std::string token_from_file_content(std::string_view content);
+
+struct ListenAddress {
+  std::string address;
+  std::uint16_t port;
+};
+// "ADDR:PORT" or "[IPv6]:PORT"; throws ConfigError naming `key`.
+ListenAddress parse_listen_address(std::string_view text, const std::string& key);
+
+}  // namespace wheeltec::web

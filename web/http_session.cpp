@@ -1,0 +1,200 @@
+#include "http_session.hpp"
+
+#include <boost/beast/http/error.hpp>
+#include <boost/beast/http/read.hpp>
+#include <boost/beast/http/write.hpp>
+#include <boost/beast/websocket/rfc6455.hpp>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "access.hpp"
+#include "foxglove.hpp"
+#include "server.hpp"
+#include "viewer.hpp"
+
+namespace wheeltec::web {
+namespace {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+
+constexpr std::uint32_t kHeaderLimit = 8 * 1024;
+constexpr std::uint64_t kBodyLimit = 64 * 1024;
+constexpr std::chrono::seconds kRequestTimeout{30};
+
+std::optional<std::string_view> header(const http::request<http::string_body>& request, http::field field) {
+  const auto found = request.find(field);
+  if (found == request.end()) return std::nullopt;
+  return std::string_view(found->value().data(), found->value().size());
+}
+
+}  // namespace
+
+HttpSession::HttpSession(Server& server, boost::asio::ip::tcp::socket socket, std::shared_ptr<std::size_t> connections)
+    : server_(server), stream_(std::move(socket)), connections_(std::move(connections)) {
+  ++*connections_;
+}
+
+HttpSession::~HttpSession() { --*connections_; }
+
+void HttpSession::read() {
+  parser_.emplace();
+  parser_->header_limit(kHeaderLimit);
+  parser_->body_limit(kBodyLimit);
+  stream_.expires_after(kRequestTimeout);
+  http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    if (ec == http::error::end_of_stream || ec == beast::error::timeout || ec == boost::asio::error::operation_aborted ||
+        ec == boost::asio::error::connection_reset || ec == boost::asio::error::eof) {
+      boost::system::error_code ignored;
+      self->stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
+      return;
+    }
+    if (ec == http::error::header_limit) {
+      return self->respond_text(http::status::request_header_fields_too_large,
+                                fmt::format("request header larger than {} bytes", kHeaderLimit), false);
+    }
+    if (ec == http::error::body_limit) {
+      return self->respond_text(http::status::payload_too_large,
+                                fmt::format("request body larger than {} bytes", kBodyLimit), false);
+    }
+    if (ec) return self->respond_text(http::status::bad_request, "malformed HTTP request: " + ec.message(), false);
+    self->handle(self->parser_->release());
+  });
+}
+
+void HttpSession::handle(Request request) {
+  request_version_ = request.version();
+  if (beast::websocket::is_upgrade(request)) return upgrade(std::move(request));
+  const std::string path(target_path(std::string_view(request.target().data(), request.target().size())));
+  const bool keep_alive = request.keep_alive();
+  if (path == "/api/status") return api_status(request);
+  if (path == "/api/stop") return api_stop(request);
+  if (path == "/api/stats") return api_stats(request);
+  const StaticFile* file = server_.files().find(path);
+  if (file == nullptr) {
+    return respond_text(http::status::not_found, fmt::format("no such page: {}", path.substr(0, 200)), keep_alive);
+  }
+  if (request.method() != http::verb::get && request.method() != http::verb::head) {
+    return respond_text(http::status::method_not_allowed, fmt::format("{} takes GET", path), keep_alive, "GET, HEAD");
+  }
+  respond(http::status::ok, file->content_type, request.method() == http::verb::head ? std::string() : file->body,
+          keep_alive);
+}
+
+void HttpSession::upgrade(Request request) {
+  const std::string_view target(request.target().data(), request.target().size());
+  const std::string_view path = target_path(target);
+  if (path != "/" && path != "/foxglove") {
+    return respond_text(http::status::not_found, "WebSocket connections go to / or /foxglove", false);
+  }
+  const auto protocols = header(request, http::field::sec_websocket_protocol);
+  if (!protocols || !offers_subprotocol(*protocols, foxglove::kSubprotocol)) {
+    return respond_text(http::status::bad_request,
+                        fmt::format("the WebSocket must offer the subprotocol {}", foxglove::kSubprotocol), false);
+  }
+  const auto origin = header(request, http::field::origin);
+  const std::string_view host = header(request, http::field::host).value_or("");
+  if (!origin_allowed(origin, host, server_.config().allow_origins)) {
+    spdlog::warn("refused a WebSocket from origin {}", std::string(origin->substr(0, 200)));
+    return respond_text(http::status::forbidden,
+                        fmt::format("origin {} is not allowed (wheeltec-web --allow-origin)", origin->substr(0, 200)),
+                        false);
+  }
+  std::optional<std::string> token;
+  if (const auto authorization = header(request, http::field::authorization)) token = bearer_token(*authorization);
+  if (!token) token = query_parameter(target, "token");
+  const bool token_ok = server_.token_matches(token);
+  if (token && !token_ok) return respond_text(http::status::unauthorized, "wrong token", false);
+  boost::system::error_code ec;
+  const auto peer = stream_.socket().remote_endpoint(ec);
+  const bool trusted_local = server_.config().trust_localhost && !ec && peer.address().is_loopback();
+  const bool may_drive = token_ok || trusted_local;
+  if (!server_.viewer_slot_free()) {
+    return respond_text(http::status::service_unavailable,
+                        fmt::format("too many viewers (max_clients {})", server_.config().max_clients), false);
+  }
+  stream_.expires_never();
+  auto viewer = std::make_shared<Viewer>(server_, std::move(stream_), may_drive, server_.next_session_id());
+  server_.add_viewer(viewer);
+  viewer->start(std::move(request));
+}
+
+void HttpSession::api_status(const Request& request) {
+  const bool keep_alive = request.keep_alive();
+  if (request.method() != http::verb::get) {
+    return respond_text(http::status::method_not_allowed, "/api/status takes GET", keep_alive, "GET");
+  }
+  server_.daemon_call("status", nullptr,
+                      [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& status) {
+                        if (ec) {
+                          return self->respond_text(http::status::service_unavailable,
+                                                    self->daemon_problem(ec), keep_alive);
+                        }
+                        self->respond(http::status::ok, "application/json", status.dump() + "\n", keep_alive);
+                      });
+}
+
+void HttpSession::api_stats(const Request& request) {
+  const bool keep_alive = request.keep_alive();
+  if (request.method() != http::verb::get) {
+    return respond_text(http::status::method_not_allowed, "/api/stats takes GET", keep_alive, "GET");
+  }
+  server_.daemon_call("stats", nullptr,
+                      [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& stats) {
+                        if (ec) {
+                          return self->respond_text(http::status::service_unavailable,
+                                                    self->daemon_problem(ec), keep_alive);
+                        }
+                        self->respond(http::status::ok, "application/json", stats.dump() + "\n", keep_alive);
+                      });
+}
+
+void HttpSession::api_stop(const Request& request) {
+  const bool keep_alive = request.keep_alive();
+  if (request.method() != http::verb::post) {
+    return respond_text(http::status::method_not_allowed, "/api/stop takes POST", keep_alive, "POST");
+  }
+  server_.daemon_call("stop", nullptr,
+                      [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& result) {
+                        if (ec) {
+                          return self->respond_text(http::status::service_unavailable,
+                                                    "stop failed: " + self->daemon_problem(ec), keep_alive);
+                        }
+                        self->respond(http::status::ok, "application/json", result.dump() + "\n", keep_alive);
+                      });
+}
+
+std::string HttpSession::daemon_problem(boost::system::error_code ec) const {
+  if (ec == boost::asio::error::not_connected) {
+    return fmt::format("wheeltecd is not reachable at {}", server_.config().socket);
+  }
+  return "wheeltecd: " + ec.message();
+}
+
+void HttpSession::respond_text(http::status status, std::string text, bool keep_alive, std::string_view allow) {
+  respond(status, "text/plain; charset=utf-8", std::move(text) + "\n", keep_alive, allow);
+}
+
+void HttpSession::respond(http::status status, std::string content_type, std::string body, bool keep_alive,
+                          std::string_view allow) {
+  auto response = std::make_shared<http::response<http::string_body>>(status, request_version_);
+  response->set(http::field::server, "wheeltec-web");
+  response->set(http::field::content_type, content_type);
+  response->set(http::field::cache_control, "no-store");
+  response->set("X-Content-Type-Options", "nosniff");
+  if (!allow.empty()) response->set(http::field::allow, std::string(allow));
+  response->body() = std::move(body);
+  response->keep_alive(keep_alive);
+  response->prepare_payload();
+  stream_.expires_after(kRequestTimeout);
+  http::async_write(stream_, *response, [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
+    if (ec || !response->keep_alive()) {
+      boost::system::error_code ignored;
+      self->stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
+      return;
+    }
+    self->read();
+  });
+}
+
+}  // namespace wheeltec::web

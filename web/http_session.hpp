@@ -1,0 +1,52 @@
+#pragma once
+
+// One HTTP connection: reads requests with Beast's parser under size limits and a timeout,
+// answers the page, /api/status and /api/stop, and hands WebSocket upgrades that pass the
+// checks (path, subprotocol, Origin, token, viewer limit) to a Viewer.
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/core/tcp_stream.hpp>
+#include <boost/beast/http/parser.hpp>
+#include <boost/beast/http/status.hpp>
+#include <boost/beast/http/string_body.hpp>
+
+namespace wheeltec::web {
+
+class Server;
+
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  // `connections` is the server's count of open connections, decremented by the destructor
+  // (which never touches the server itself).
+  HttpSession(Server& server, boost::asio::ip::tcp::socket socket, std::shared_ptr<std::size_t> connections);
+  ~HttpSession();
+
+  void start() { read(); }
+
+ private:
+  using Request = boost::beast::http::request<boost::beast::http::string_body>;
+
+  void read();
+  void handle(Request request);
+  void upgrade(Request request);
+  void api_status(const Request& request);
+  void api_stop(const Request& request);
+  void api_stats(const Request& request);
+  std::string daemon_problem(boost::system::error_code ec) const;
+  void respond(boost::beast::http::status status, std::string content_type, std::string body, bool keep_alive,
+               std::string_view allow = {});
+  void respond_text(boost::beast::http::status status, std::string text, bool keep_alive, std::string_view allow = {});
+
+  Server& server_;
+  boost::beast::tcp_stream stream_;
+  boost::beast::flat_buffer buffer_;
+  std::optional<boost::beast::http::request_parser<boost::beast::http::string_body>> parser_;
+  std::shared_ptr<std::size_t> connections_;
+  unsigned request_version_ = 11;
+};
+
+}  // namespace wheeltec::web

@@ -1,0 +1,78 @@
+// wheeltec-web: the live view of one robot's wheeltecd in a browser and in Foxglove (spec
+// section 6, docs/web.md). Exit codes: 0 on a clean stop, 2 on bad usage or configuration,
+// 1 on other failures.
+
+#include <csignal>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <variant>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <spdlog/spdlog.h>
+
+#include "options.hpp"
+#include "server.hpp"
+#include "static_files.hpp"
+#include "wheeltec/service/logging.hpp"
+
+#ifndef WHEELTEC_WEB_PAGE_DIR
+#define WHEELTEC_WEB_PAGE_DIR "/usr/share/wheeltec-web"
+#endif
+
+namespace {
+
+// The installed page: PREFIX/share/wheeltec-web next to PREFIX/bin/wheeltec-web, whatever
+// the prefix (the .deb's /usr or cmake --install's); the configured path otherwise.
+std::string installed_page_dir() {
+  std::error_code error;
+  const auto program = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    const auto beside = program.parent_path().parent_path() / "share" / "wheeltec-web";
+    if (std::filesystem::exists(beside / "index.html", error)) return beside.string();
+  }
+  return WHEELTEC_WEB_PAGE_DIR;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace wheeltec::web;
+  std::signal(SIGPIPE, SIG_IGN);
+
+  auto parsed = parse_command_line(argc, argv);
+  if (const int* exit_code = std::get_if<int>(&parsed)) return *exit_code;
+  const Options options = std::get<Options>(std::move(parsed));
+
+  WebConfig config;
+  std::optional<std::string> token;
+  try {
+    config = load_config(options);
+    if (config.token_file) token = read_token(*config.token_file);
+  } catch (const wheeltec::ConfigError& error) {
+    std::cerr << "wheeltec-web: " << error.what() << "\n";
+    return 2;
+  }
+  if (config.page_dir.empty()) config.page_dir = installed_page_dir();
+
+  wheeltec::service::setup_logging(config.log.level, "wheeltec-web");
+  try {
+    StaticFiles files = StaticFiles::load(config.page_dir, config.javascript_dir);
+    boost::asio::io_context io{1};
+    Server server(io, std::move(config), std::move(token), std::move(files));
+    boost::asio::signal_set signals(io, SIGTERM, SIGINT);
+    signals.async_wait([&](boost::system::error_code ec, int signal) {
+      if (ec) return;
+      spdlog::info("signal {}: stopping", signal);
+      server.stop();
+      io.stop();
+    });
+    server.start();
+    io.run();
+    return 0;
+  } catch (const std::exception& error) {
+    std::cerr << "wheeltec-web: " << error.what() << "\n";
+    return 1;
+  }
+}

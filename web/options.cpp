@@ -1,0 +1,74 @@
+#include "options.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/client/connection.hpp"
+#include "wheeltec/command_line.hpp"
+#include "wheeltec/service/config_file.hpp"
+#include "wheeltec/types.hpp"
+
+namespace wheeltec::web {
+
+std::variant<Options, int> parse_command_line(int argc, char** argv) {
+  Options options;
+  CLI::App app{"wheeltec-web: live view of a WHEELTEC robot in a browser and in Foxglove", "wheeltec-web"};
+  command_line::add_version_flag(app);
+  app.add_option("--config", options.config_file,
+                 fmt::format("Config file (JSON); default {} if it exists", kDefaultConfigFile))
+      ->type_name("FILE");
+  app.add_option("--socket", options.socket, "wheeltecd's socket; default $WHEELTEC_SOCKET, else the daemon's")
+      ->type_name("PATH");
+  app.add_option("--listen", options.listen, "Address and port to serve on, default 127.0.0.1:8080")
+      ->type_name("ADDR:PORT");
+  app.add_option("--token-file", options.token_file,
+                 "File holding the token that driving needs (not readable by others); without it nobody drives")
+      ->type_name("FILE");
+  app.add_option("--allow-origin", options.allow_origins,
+                 "Another web origin whose pages may connect, e.g. https://app.foxglove.dev (repeatable)")
+      ->type_name("ORIGIN");
+  app.add_option("--page-dir", options.page_dir, "Directory of the page's files, default the installed ones")
+      ->type_name("DIR");
+  const std::vector<std::string> log_levels(kLogLevels.begin(), kLogLevels.end());
+  app.add_option("--log-level", options.log_level, "Log level, overrides log.level")
+      ->type_name(fmt::format("{}", fmt::join(log_levels, "|")))
+      ->check(CLI::IsMember(log_levels).description(""));
+  if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
+  return options;
+}
+
+WebConfig load_config(const Options& options) {
+  WebConfig config;
+  config.socket = client::socket_path_from_environment();
+  if (const auto file = service::config_file_to_load(options.config_file, kDefaultConfigFile)) {
+    const std::string text = service::read_config_file(*file);
+    try {
+      apply_web_config(parse_config_document(text), config);
+      validate_web_config(config);
+    } catch (const ConfigError& error) {
+      throw ConfigError(fmt::format("{}: {}", *file, error.what()));
+    }
+  }
+  try {
+    if (options.socket) config.socket = *options.socket;
+    if (options.listen) config.listen = parse_listen_address(*options.listen, "--listen");
+    if (options.token_file) config.token_file = *options.token_file;
+    for (const auto& origin : options.allow_origins) config.allow_origins.push_back(origin);
+    if (options.page_dir) config.page_dir = *options.page_dir;
+    if (options.log_level) config.log.level = *options.log_level;
+    validate_web_config(config);
+  } catch (const ConfigError& error) {
+    throw ConfigError(fmt::format("command line: {}", error.what()));
+  }
+  return config;
+}
+
+std::string read_token(const std::string& path) {
+  const std::string token = token_from_file_content(service::read_config_file(path, service::ConfigSecrecy::private_));
+  if (token.empty()) throw ConfigError(fmt::format("token file {} is empty", path));
+  return token;
+}
+
+}  // namespace wheeltec::web

@@ -1,0 +1,256 @@
+// wheeltec-web's page: a Foxglove WebSocket protocol client (the same protocol and server
+// code path as Foxglove itself) for the plots, the status and the joystick; plain HTTP for
+// STOP and the daemon's counters. docs/web.md describes it.
+'use strict';
+
+const WINDOW_S = 30;            // plotted history
+const DRIVE_PERIOD_MS = 100;    // joystick repeat, well under wheeltecd's command_timeout_s (0.5 s)
+const MAX_VX = 0.5, MAX_WZ = 1.5;
+const token = new URLSearchParams(location.search).get('token');
+const $ = (id) => document.getElementById(id);
+
+// --- data kept for the plots ---
+const series = { vx: [], vy: [], wz: [], gyro: [], accel: [], battery: [] };
+const path = [];
+let commanded = { vx: 0, vy: 0, wz: 0 };
+let lowBatteryV = 10.8;
+let records = 0, droppedHere = 0, lastSeq = null;
+
+function trim(list, now) {
+  while (list.length && list[0][0] < now - WINDOW_S * 1000) list.shift();
+}
+
+// --- plots (Debian's libjs-dygraphs) ---
+const graphs = {};
+function makeGraphs() {
+  if (typeof Dygraph === 'undefined') { $('no-plots').hidden = false; return; }
+  const make = (id, labels, title, extra) => {
+    graphs[id] = new Dygraph($('plot-' + id), [[new Date(), ...labels.slice(1).map(() => null)]],
+      Object.assign({ labels, title, legend: 'always', labelsSeparateLines: false, titleHeight: 18,
+                      strokeWidth: 1.5, connectSeparatedPoints: true }, extra || {}));
+  };
+  make('vx', ['t', 'vx commanded', 'vx measured'], 'vx (m/s)');
+  make('vy', ['t', 'vy commanded', 'vy measured'], 'vy (m/s)');
+  make('wz', ['t', 'wz commanded', 'wz measured'], 'wz (rad/s)');
+  make('gyro', ['t', 'gyro z'], 'gyro z (rad/s)');
+  make('accel', ['t', 'accel x', 'accel y', 'accel z'], 'accel (m/s²)');
+  make('battery', ['t', 'battery', 'low-battery line'], 'battery (V)');
+}
+
+let redrawPending = false;
+function redraw() {
+  if (redrawPending) return;
+  redrawPending = true;
+  setTimeout(() => {
+    redrawPending = false;
+    for (const [id, graph] of Object.entries(graphs)) {
+      if (series[id].length) graph.updateOptions({ file: series[id] });
+    }
+    drawPath();
+  }, 200);
+}
+
+function onTelemetry(r) {
+  const t = new Date(r.time * 1000);
+  if (lastSeq !== null && r.seq < lastSeq) path.length = 0;  // the daemon restarted
+  lastSeq = r.seq;
+  records++;
+  series.vx.push([t, commanded.vx, r.velocity.vx]);
+  series.vy.push([t, commanded.vy, r.velocity.vy]);
+  series.wz.push([t, commanded.wz, r.velocity.wz]);
+  series.gyro.push([t, r.gyro.z]);
+  series.accel.push([t, r.accel.x, r.accel.y, r.accel.z]);
+  series.battery.push([t, r.battery.voltage, lowBatteryV]);
+  for (const list of Object.values(series)) trim(list, t.getTime());
+  path.push([r.odom.x, r.odom.y, r.odom.yaw]);
+  if (path.length > 20000) path.shift();
+  $('seq').textContent = String(r.seq);
+  $('velocity').textContent = `${r.velocity.vx.toFixed(3)} m/s, ${r.velocity.vy.toFixed(3)} m/s, ${r.velocity.wz.toFixed(3)} rad/s`;
+  $('battery').textContent = `${r.battery.voltage.toFixed(2)} V${r.battery.low ? ' (LOW)' : ''}`;
+  $('battery').className = r.battery.low ? 'bad' : '';
+  $('pose').textContent = `x ${r.odom.x.toFixed(2)} m, y ${r.odom.y.toFixed(2)} m, yaw ${(r.odom.yaw * 180 / Math.PI).toFixed(0)}°`;
+  document.body.dataset.live = 'true';
+  document.body.dataset.records = String(records);  // received by this page
+  redraw();
+}
+
+function onStatus(s) {
+  const yes = (v) => (v ? 'yes' : 'no');
+  $('bus-state').textContent = `${s.bus.interface}: ${s.bus.state}`;
+  $('bus-state').className = s.bus.state === 'up' ? 'good' : 'bad';
+  $('online').textContent = yes(s.chassis.online);
+  $('online').className = s.chassis.online ? 'good' : 'bad';
+  $('phase').textContent = s.chassis.phase === null || s.chassis.phase === undefined ? '-' : s.chassis.phase +
+    (s.chassis.commands_ignored ? ' (commands ignored: check can.dialect)' : '');
+  $('enabled').textContent = yes(s.control.enabled);
+  $('owner').textContent = s.control.owner === null ? 'nobody' : `client ${s.control.owner}`;
+  commanded = s.control.target || { vx: 0, vy: 0, wz: 0 };
+}
+
+function drawPath() {
+  const canvas = $('odom'), g = canvas.getContext('2d');
+  g.clearRect(0, 0, canvas.width, canvas.height);
+  if (!path.length) return;
+  let minX = 0, maxX = 0, minY = 0, maxY = 0;
+  for (const [x, y] of path) { minX = Math.min(minX, x); maxX = Math.max(maxX, x); minY = Math.min(minY, y); maxY = Math.max(maxY, y); }
+  const span = Math.max(maxX - minX, maxY - minY, 1) * 1.2;
+  const cx = (minX + maxX) / 2, cy = (minY + maxY) / 2, scale = canvas.width / span;
+  const px = (x) => canvas.width / 2 + (x - cx) * scale, py = (y) => canvas.height / 2 - (y - cy) * scale;
+  g.strokeStyle = '#ccc'; g.beginPath(); g.moveTo(px(0), 0); g.lineTo(px(0), canvas.height);
+  g.moveTo(0, py(0)); g.lineTo(canvas.width, py(0)); g.stroke();
+  g.strokeStyle = '#36c'; g.lineWidth = 2; g.beginPath();
+  path.forEach(([x, y], i) => (i ? g.lineTo(px(x), py(y)) : g.moveTo(px(x), py(y))));
+  g.stroke();
+  const [x, y, yaw] = path[path.length - 1];
+  g.fillStyle = '#d22'; g.beginPath();
+  g.moveTo(px(x) + 10 * Math.cos(yaw), py(y) - 10 * Math.sin(yaw));
+  g.lineTo(px(x) + 6 * Math.cos(yaw + 2.5), py(y) - 6 * Math.sin(yaw + 2.5));
+  g.lineTo(px(x) + 6 * Math.cos(yaw - 2.5), py(y) - 6 * Math.sin(yaw - 2.5));
+  g.fill();
+}
+
+// --- messages shown to the user ---
+function showMessage(level, text) {
+  const box = $('messages'), line = document.createElement('div');
+  line.className = ['info', 'warning', 'error'][level] || 'error';
+  line.textContent = `${new Date().toLocaleTimeString()} ${text}`;
+  box.prepend(line);
+  while (box.children.length > 5) box.lastChild.remove();
+}
+
+// --- the Foxglove WebSocket protocol ---
+let ws = null, channels = {}, subscriptions = {}, cmdVelChannel = 1;
+function connect() {
+  const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/foxglove` +
+    (token ? `?token=${encodeURIComponent(token)}` : '');
+  ws = new WebSocket(url, 'foxglove.websocket.v1');
+  ws.binaryType = 'arraybuffer';
+  ws.onopen = () => { $('connection').textContent = 'connected'; $('connection').className = 'good'; };
+  ws.onclose = () => {
+    $('connection').textContent = 'disconnected: reconnecting'; $('connection').className = 'bad';
+    joystickRelease();
+    setTimeout(connect, 1000);
+  };
+  ws.onmessage = (event) => (typeof event.data === 'string' ? onText(JSON.parse(event.data)) : onBinary(event.data));
+}
+
+function onText(msg) {
+  if (msg.op === 'serverInfo') {
+    if (msg.metadata && msg.metadata.low_battery_v) lowBatteryV = Number(msg.metadata.low_battery_v);
+  } else if (msg.op === 'advertise') {
+    const wanted = [];
+    for (const ch of msg.channels) {
+      channels[ch.id] = ch.topic;
+      if (ch.topic === '/wheeltec/telemetry' || ch.topic === '/wheeltec/status') {
+        const id = Object.keys(subscriptions).length + 1;
+        subscriptions[id] = ch.topic;
+        wanted.push({ id, channelId: ch.id });
+      }
+    }
+    ws.send(JSON.stringify({ op: 'subscribe', subscriptions: wanted }));
+    ws.send(JSON.stringify({ op: 'advertise', channels: [{ id: cmdVelChannel, topic: '/wheeltec/cmd_vel',
+      encoding: 'json', schemaName: 'wheeltec.CmdVel' }] }));
+  } else if (msg.op === 'status') {
+    if (msg.id === 'read-only') { $('mode').textContent = 'read-only (no token): STOP only'; return; }
+    if (msg.id === 'slow-viewer') droppedHere++;
+    if (msg.id === 'drive-refused') { $('refusal').textContent = msg.message; joystickRelease(false); }
+    showMessage(msg.level, msg.message);
+  }
+}
+
+function onBinary(buffer) {
+  const view = new DataView(buffer);
+  if (view.getUint8(0) !== 1) return;
+  const topic = subscriptions[view.getUint32(1, true)];
+  const payload = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 13)));
+  if (topic === '/wheeltec/telemetry') onTelemetry(payload);
+  else if (topic === '/wheeltec/status') onStatus(payload);
+}
+
+function publishDrive(v) {
+  if (!ws || ws.readyState !== WebSocket.OPEN) return;
+  const body = new TextEncoder().encode(JSON.stringify(v));
+  const frame = new Uint8Array(5 + body.length);
+  frame[0] = 1;
+  new DataView(frame.buffer).setUint32(1, cmdVelChannel, true);
+  frame.set(body, 5);
+  ws.send(frame);
+}
+
+// --- the joystick: repeats drive while held; release, blur and closing stop ---
+let held = null, repeat = null, keys = new Set();
+function joystickSet(x, y) {  // x, y in [-1, 1]; up = forward, left = turn left
+  held = { vx: Number((MAX_VX * y).toFixed(3)), vy: 0, wz: Number((-MAX_WZ * x).toFixed(3)) };
+  $('refusal').textContent = '';
+  $('drive-state').textContent = `driving vx ${held.vx} m/s, wz ${held.wz} rad/s`;
+  if (!repeat) { publishDrive(held); repeat = setInterval(() => publishDrive(held), DRIVE_PERIOD_MS); }
+  drawJoystick(x, y);
+}
+function joystickRelease(sendZero = true) {
+  if (repeat) { clearInterval(repeat); repeat = null; }
+  if (held && sendZero) publishDrive({ vx: 0, vy: 0, wz: 0 });  // then silence: the deadman releases control
+  held = null;
+  $('drive-state').textContent = 'idle';
+  drawJoystick(0, 0);
+}
+function drawJoystick(x, y) {
+  const c = $('joystick'), g = c.getContext('2d'), r = c.width / 2;
+  g.clearRect(0, 0, c.width, c.height);
+  g.strokeStyle = '#aaa'; g.beginPath(); g.arc(r, r, r - 2, 0, 2 * Math.PI); g.stroke();
+  g.fillStyle = held ? '#36c' : '#889'; g.beginPath(); g.arc(r + x * (r - 25), r - y * (r - 25), 22, 0, 2 * Math.PI); g.fill();
+}
+function setupJoystick() {
+  const c = $('joystick');
+  const fromEvent = (e) => {
+    const box = c.getBoundingClientRect(), r = box.width / 2;
+    let x = (e.clientX - box.left - r) / (r - 25), y = -(e.clientY - box.top - r) / (r - 25);
+    const n = Math.hypot(x, y);
+    if (n > 1) { x /= n; y /= n; }
+    joystickSet(x, y);
+  };
+  c.addEventListener('pointerdown', (e) => { c.setPointerCapture(e.pointerId); fromEvent(e); });
+  c.addEventListener('pointermove', (e) => { if (held && !keys.size) fromEvent(e); });
+  for (const type of ['pointerup', 'pointercancel', 'lostpointercapture']) c.addEventListener(type, () => joystickRelease());
+  const arrows = { ArrowUp: [0, 1], ArrowDown: [0, -1], ArrowLeft: [-1, 0], ArrowRight: [1, 0] };
+  const fromKeys = () => {
+    let x = 0, y = 0;
+    for (const k of keys) { x += arrows[k][0]; y += arrows[k][1]; }
+    if (keys.size) joystickSet(Math.max(-1, Math.min(1, x)), Math.max(-1, Math.min(1, y))); else joystickRelease();
+  };
+  window.addEventListener('keydown', (e) => { if (arrows[e.key] && !keys.has(e.key)) { keys.add(e.key); fromKeys(); e.preventDefault(); } });
+  window.addEventListener('keyup', (e) => { if (keys.delete(e.key)) fromKeys(); });
+  window.addEventListener('blur', () => { keys.clear(); joystickRelease(); });
+  document.addEventListener('visibilitychange', () => { if (document.hidden) { keys.clear(); joystickRelease(); } });
+  window.addEventListener('pagehide', () => { joystickRelease(); if (ws) ws.close(); });
+  drawJoystick(0, 0);
+}
+
+// --- STOP and the daemon's counters over HTTP ---
+async function stop() {
+  joystickRelease(false);
+  try {
+    const response = await fetch('/api/stop', { method: 'POST' });
+    showMessage(response.ok ? 0 : 2, response.ok ? 'STOP sent' : `STOP failed: ${await response.text()}`);
+  } catch (error) {
+    showMessage(2, `STOP failed: ${error}`);
+  }
+}
+const sum = (object) => Object.values(object || {}).reduce((a, b) => a + (typeof b === 'number' ? b : 0), 0);
+async function pollStats() {
+  try {
+    const response = await fetch('/api/stats');
+    if (response.ok) {
+      const stats = await response.json();
+      $('discards').textContent = String(sum(stats.groups_discarded));
+      $('rejects').textContent = String(sum(stats.records_rejected));
+    }
+  } catch (error) { /* shown by the connection state */ }
+  $('dropped').textContent = droppedHere ? 'yes (this page is too slow)' : '0';
+}
+
+makeGraphs();
+setupJoystick();
+$('stop').addEventListener('click', stop);
+connect();
+pollStats();
+setInterval(pollStats, 2000);

@@ -1,0 +1,160 @@
+#include "server.hpp"
+
+#include <vector>
+
+#include <boost/asio/error.hpp>
+#include <boost/asio/ip/address.hpp>
+#include <spdlog/spdlog.h>
+
+#include "access.hpp"
+#include "foxglove.hpp"
+#include "http_session.hpp"
+#include "viewer.hpp"
+
+namespace wheeltec::web {
+namespace {
+
+constexpr std::chrono::milliseconds kDaemonRetry{1000};
+// HTTP connections at once, WebSocket viewers among them (those have their own limit).
+std::size_t connection_limit(const WebConfig& config) { return static_cast<std::size_t>(config.max_clients) + 32; }
+
+boost::asio::ip::tcp::endpoint endpoint_of(const ListenAddress& listen) {
+  return {boost::asio::ip::make_address(listen.address), listen.port};
+}
+
+std::uint64_t now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+Server::Server(boost::asio::io_context& io, WebConfig config, std::optional<std::string> token, StaticFiles files)
+    : io_(io),
+      config_(std::move(config)),
+      token_(std::move(token)),
+      files_(std::move(files)),
+      acceptor_(io, endpoint_of(config_.listen)),
+      retry_timer_(io) {}
+
+Server::~Server() = default;
+
+boost::asio::ip::tcp::endpoint Server::local_endpoint() const { return acceptor_.local_endpoint(); }
+
+void Server::start() {
+  spdlog::info("serving on http://{}:{}/, wheeltecd at {}, driving {}", config_.listen.address, local_endpoint().port(),
+               config_.socket, token_ ? "with the token" : "disabled (no --token-file)");
+  accept();
+  connect_daemon();
+}
+
+void Server::stop() {
+  stopped_ = true;
+  boost::system::error_code ignored;
+  acceptor_.close(ignored);
+  retry_timer_.cancel();
+  for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) viewer->shutdown();
+  viewers_.clear();
+  if (daemon_) daemon_->close();
+}
+
+bool Server::token_matches(const std::optional<std::string>& given) const {
+  return token_ && given && tokens_equal(*given, *token_);
+}
+
+void Server::add_viewer(const std::shared_ptr<Viewer>& viewer) { viewers_.insert(viewer); }
+
+void Server::remove_viewer(Viewer* viewer) {
+  for (auto it = viewers_.begin(); it != viewers_.end(); ++it) {
+    if (it->get() == viewer) {
+      viewers_.erase(it);
+      return;
+    }
+  }
+}
+
+void Server::accept() {
+  acceptor_.async_accept([this](boost::system::error_code ec, boost::asio::ip::tcp::socket socket) {
+    if (stopped_) return;
+    if (ec) {
+      spdlog::warn("accept failed: {}", ec.message());
+    } else if (*connections_ >= connection_limit(config_)) {
+      spdlog::warn("too many connections ({}): refusing one", *connections_);
+      boost::system::error_code ignored;
+      socket.close(ignored);
+    } else {
+      socket.set_option(boost::asio::ip::tcp::no_delay(true), ec);
+      std::make_shared<HttpSession>(*this, std::move(socket), connections_)->start();
+    }
+    accept();
+  });
+}
+
+void Server::daemon_call(const std::string& method, client::Json params, client::Connection::CallHandler handler) {
+  if (!daemon_ready_) return handler(boost::asio::error::not_connected, nullptr);
+  daemon_->async_call(method, std::move(params), std::move(handler));
+}
+
+void Server::connect_daemon() {
+  daemon_ = std::make_unique<client::Connection>(io_.get_executor());
+  daemon_->on_telemetry([this](const client::Telemetry& record) { handle_telemetry(record); });
+  daemon_->on_status([this](const client::Status& status) { handle_status(status.json); });
+  daemon_->on_close([this](boost::system::error_code ec) { daemon_lost(ec); });
+  daemon_->async_connect(config_.socket, [this](boost::system::error_code ec) {
+    if (ec) return daemon_lost(ec);
+    daemon_->async_subscribe([this](boost::system::error_code ec, const client::Json&) {
+      if (ec) {
+        spdlog::error("wheeltecd refused the subscription: {}", ec.message());
+        daemon_->close();
+        return daemon_lost(ec);
+      }
+      daemon_ready_ = true;
+      spdlog::info("connected to wheeltecd at {}", config_.socket);
+      for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
+        viewer->send_status(foxglove::Level::info, "wheeltecd is reachable", "daemon");
+      }
+      daemon_->async_call("status", nullptr, [this](boost::system::error_code ec, const client::Json& status) {
+        if (!ec) handle_status(status);
+      });
+    });
+  });
+}
+
+void Server::daemon_lost(boost::system::error_code ec) {
+  if (stopped_) return;
+  if (daemon_ready_) {
+    spdlog::warn("lost wheeltecd at {}: {}", config_.socket, ec.message());
+    for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
+      viewer->send_status(foxglove::Level::warning, "wheeltecd is not reachable: " + ec.message(), "daemon");
+    }
+  }
+  daemon_ready_ = false;
+  retry_timer_.expires_after(kDaemonRetry);
+  retry_timer_.async_wait([this](boost::system::error_code ec) {
+    if (!ec && !stopped_) connect_daemon();
+  });
+}
+
+void Server::handle_telemetry(const client::Telemetry& record) {
+  if (viewers_.empty()) return;
+  const std::uint64_t timestamp = foxglove::timestamp_ns(record.time);
+  const auto telemetry = std::make_shared<const std::string>(record.json.dump());
+  const auto odom = std::make_shared<const std::string>(foxglove::odom_pose(record).dump());
+  const auto imu = std::make_shared<const std::string>(foxglove::imu(record).dump());
+  for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
+    viewer->send_channel(foxglove::ChannelId::telemetry, timestamp, telemetry);
+    viewer->send_channel(foxglove::ChannelId::odom, timestamp, odom);
+    viewer->send_channel(foxglove::ChannelId::imu, timestamp, imu);
+  }
+}
+
+void Server::handle_status(const client::Json& status) {
+  latest_status_ = status.dump();
+  const auto payload = std::make_shared<const std::string>(*latest_status_);
+  const std::uint64_t timestamp = now_ns();
+  for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
+    viewer->send_channel(foxglove::ChannelId::status, timestamp, payload);
+  }
+}
+
+}  // namespace wheeltec::web

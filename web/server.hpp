@@ -1,0 +1,75 @@
+#pragma once
+
+// wheeltec-web's core: one Asio thread, an acceptor for HTTP and WebSocket, one shared
+// connection to wheeltecd whose telemetry and status notifications fan out to every
+// viewer, and what the sessions share (config, token, files, the viewer count).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include "wheeltec/client/connection.hpp"
+
+#include "static_files.hpp"
+#include "web_config.hpp"
+
+namespace wheeltec::web {
+
+class Viewer;
+
+class Server {
+ public:
+  // Binds at once; throws boost::system::system_error when the address cannot be bound.
+  Server(boost::asio::io_context& io, WebConfig config, std::optional<std::string> token, StaticFiles files);
+  ~Server();
+
+  void start();
+  void stop();
+  boost::asio::ip::tcp::endpoint local_endpoint() const;
+
+  // --- for the sessions ---
+  const WebConfig& config() const { return config_; }
+  const StaticFiles& files() const { return files_; }
+  boost::asio::any_io_executor executor() { return io_.get_executor(); }
+  // Whether `given` is the driving token (false when no token file was given).
+  bool token_matches(const std::optional<std::string>& given) const;
+  bool driving_configured() const { return token_.has_value(); }
+
+  bool viewer_slot_free() const { return viewers_.size() < static_cast<std::size_t>(config_.max_clients); }
+  void add_viewer(const std::shared_ptr<Viewer>& viewer);
+  void remove_viewer(Viewer* viewer);
+
+  // A request on the shared daemon connection; not_connected while the daemon is away.
+  void daemon_call(const std::string& method, client::Json params, client::Connection::CallHandler handler);
+  const std::optional<std::string>& latest_status() const { return latest_status_; }
+  std::string next_session_id() { return std::to_string(++sessions_); }
+
+ private:
+  void accept();
+  void connect_daemon();
+  void daemon_lost(boost::system::error_code ec);
+  void handle_telemetry(const client::Telemetry& record);
+  void handle_status(const client::Json& status);
+
+  boost::asio::io_context& io_;
+  WebConfig config_;
+  std::optional<std::string> token_;
+  StaticFiles files_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  std::unique_ptr<client::Connection> daemon_;
+  bool daemon_ready_ = false;
+  boost::asio::steady_timer retry_timer_;
+  std::set<std::shared_ptr<Viewer>> viewers_;
+  std::shared_ptr<std::size_t> connections_ = std::make_shared<std::size_t>(0);  // HTTP sessions open
+  std::uint64_t sessions_ = 0;
+  std::optional<std::string> latest_status_;
+  bool stopped_ = false;
+};
+
+}  // namespace wheeltec::web
