@@ -11,13 +11,14 @@ readonly WHEELTEC_BUILD_PACKAGES=(
 )
 # What running them on a virtual CAN interface needs (the demo and the vcan tests):
 # scripts/vcan-run, natively or inside User-Mode Linux.
-readonly WHEELTEC_VCAN_PACKAGES=(can-utils iproute2 kmod user-mode-linux)
+readonly WHEELTEC_VCAN_PACKAGES=(can-utils iproute2 kmod user-mode-linux
+  libjs-dygraphs)  # the plotting library that wheeltec-web serves to its page
 # What only the tests need: GoogleTest, and for the systemd suite (tests/systemd,
 # scripts/systemd-uml) systemd as PID 1 in UML, cpack's .deb installed with dpkg, users
 # made with useradd/usermod, runuser, jq.
 readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd util-linux jq
   mosquitto mosquitto-clients openssl  # the broker, its clients and TLS certificates of the wheeltec-mqtt suites
-  libjs-dygraphs chromium)  # wheeltec-web's plots and its browser suite (its Foxglove suite needs node and npm)
+  chromium)  # wheeltec-web's browser suite
 
 # Prints the packages among the arguments that are not installed.
 missing_packages() {
@@ -56,7 +57,13 @@ install_packages() {
 # The programs' build and vcan packages; with "tests", the tests' packages too.
 install_dependencies() {
   local packages=("${WHEELTEC_BUILD_PACKAGES[@]}" "${WHEELTEC_VCAN_PACKAGES[@]}")
-  [[ ${1:-} == tests ]] && packages+=("${WHEELTEC_TEST_PACKAGES[@]}")
+  if [[ ${1:-} == tests ]]; then
+    packages+=("${WHEELTEC_TEST_PACKAGES[@]}")
+    # wheeltec-web's suite runs npm's Foxglove client on node: Debian's nodejs, and its npm
+    # unless the nodejs already installed brings one of its own.
+    packages+=(nodejs)
+    command -v npm >/dev/null 2>&1 || packages+=(npm)
+  fi
   install_packages "${packages[@]}"
 }
 
