@@ -5,8 +5,30 @@
 
 #include <fmt/format.h>
 
+#include "wheeltec/json_text.hpp"
+
 namespace wheeltec::web::foxglove {
 namespace {
+
+// Deeper than any client message of the protocol.
+constexpr int kMaxDepth = 8;
+
+// A client's JSON text, read as the daemon reads its requests: containers nested deeper
+// than kMaxDepth and keys given twice are refused, not guessed at.
+std::variant<Json, ProtocolError> read_json(std::string_view text, std::string_view what) {
+  json_text::Findings findings;
+  Json document;
+  try {
+    document = json_text::parse(text, findings, kMaxDepth);
+  } catch (const nlohmann::json::exception& error) {
+    if (!findings.too_deep) return ProtocolError{fmt::format("{}not JSON: {}", what, json_text::message(error))};
+  }
+  if (findings.too_deep) return ProtocolError{fmt::format("{}nested deeper than {} levels", what, kMaxDepth)};
+  if (findings.duplicate_key) {
+    return ProtocolError{fmt::format("{}duplicate key \"{}\"", what, json_text::printable(*findings.duplicate_key))};
+  }
+  return document;
+}
 
 Json number_object(std::initializer_list<const char*> keys) {
   Json properties = Json::object();
@@ -203,10 +225,10 @@ std::string message_data(std::uint32_t subscription_id, std::uint64_t timestamp,
 }
 
 ClientMessage parse_text(std::string_view text) {
-  const Json message = Json::parse(text, nullptr, false);
-  if (message.is_discarded()) return ProtocolError{"not JSON"};
+  auto read = read_json(text, "");
+  if (auto* error = std::get_if<ProtocolError>(&read)) return std::move(*error);
   try {
-    return parse_object(message);
+    return parse_object(std::get<Json>(read));
   } catch (const std::exception& error) {
     return ProtocolError{error.what()};
   }
@@ -222,8 +244,9 @@ std::variant<ClientPublish, ProtocolError> parse_binary(std::string_view data) {
 }
 
 std::variant<client::Velocity, ProtocolError> parse_cmd_vel(std::string_view payload) {
-  const Json message = Json::parse(payload, nullptr, false);
-  if (message.is_discarded()) return ProtocolError{"cmd_vel: not JSON"};
+  auto read = read_json(payload, "cmd_vel: ");
+  if (auto* error = std::get_if<ProtocolError>(&read)) return std::move(*error);
+  const Json& message = std::get<Json>(read);
   if (!message.is_object()) return ProtocolError{"cmd_vel: expected an object {\"vx\",\"vy\",\"wz\"}"};
   client::Velocity velocity;
   for (const auto& [key, value] : message.items()) {

@@ -40,6 +40,7 @@ failed=0
 build=$prefix
 targets=(unit_tests)
 [[ -f $BUILD_DIR/tests/mqtt/mqtt_unit_tests ]] && targets+=(mqtt_unit_tests)
+[[ -f $BUILD_DIR/tests/web/web_unit_tests ]] && targets+=(web_unit_tests)
 if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
   vcan=native
   targets+=(integration_tests)
@@ -52,6 +53,9 @@ echo "sanitizers: unit tests"
 "$build/tests/unit/unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
 if [[ " ${targets[*]} " == *" mqtt_unit_tests "* ]]; then
   "$build/tests/mqtt/mqtt_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
+fi
+if [[ " ${targets[*]} " == *" web_unit_tests "* ]]; then
+  "$build/tests/web/web_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
 fi
 if [[ $vcan == native ]]; then
   echo "sanitizers: command-line integration tests"

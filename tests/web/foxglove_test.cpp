@@ -83,6 +83,17 @@ TEST(Foxglove, MalformedTextIsAProtocolErrorNeverAnException) {
   }
 }
 
+TEST(Foxglove, DeepNestingAndKeysGivenTwiceAreRefused) {
+  const std::string deep = R"({"op":"subscribe","subscriptions":)" + std::string(30000, '[') + std::string(30000, ']') + "}";
+  const auto nested = parse_text(deep);
+  ASSERT_TRUE(std::holds_alternative<ProtocolError>(nested));
+  EXPECT_EQ(std::get<ProtocolError>(nested).message, "nested deeper than 8 levels");
+  const auto twice = parse_cmd_vel(R"({"vx":0.3,"vx":-0.3})");
+  ASSERT_TRUE(std::holds_alternative<ProtocolError>(twice));
+  EXPECT_EQ(std::get<ProtocolError>(twice).message, "cmd_vel: duplicate key \"vx\"");
+  EXPECT_TRUE(std::holds_alternative<ProtocolError>(parse_cmd_vel(std::string(60000, '{'))));
+}
+
 TEST(Foxglove, ParsesClientPublishAndRefusesShortOrUnknownFrames) {
   const auto publish = parse_binary(std::string("\x01\x02\x00\x00\x00{\"vx\":1}", 13));
   ASSERT_TRUE(std::holds_alternative<ClientPublish>(publish));
