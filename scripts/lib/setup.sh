@@ -18,6 +18,7 @@ readonly WHEELTEC_VCAN_PACKAGES=(can-utils iproute2 kmod user-mode-linux
 # made with useradd/usermod, runuser, jq.
 readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd util-linux jq
   mosquitto mosquitto-clients openssl  # the broker, its clients and TLS certificates of the wheeltec-mqtt suites
+  curl  # HTTP requests of the systemd suite of wheeltec-web
   chromium)  # wheeltec-web's browser suite
 
 # Prints the packages among the arguments that are not installed.
