@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Test stage: the benchmarks still build and run. Each microbenchmark runs for a few
-# milliseconds and must not report an error, and the wheeltec-mqtt benchmark runs once in
-# its quick mode (inside scripts/vcan-run, with mosquitto) and must report its figures;
-# nothing is timed or compared here (the figures come from scripts/bench.sh and
-# scripts/bench-mqtt.sh, see docs/performance.md).
+# milliseconds and must not report an error, and the wheeltec-mqtt and wheeltec-web
+# benchmarks run once in their quick modes (inside scripts/vcan-run) and must report their
+# figures; nothing is timed or compared here (the figures come from scripts/bench.sh,
+# scripts/bench-mqtt.sh and scripts/bench-web.sh, see docs/performance.md).
 set -euo pipefail
 
 REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
@@ -80,3 +80,28 @@ if problems:
 print(f"bench smoke: wheeltec-mqtt benchmark ran ({m['elapsed_s']:.0f} s inside the VM; "
       f"{len(m['scaling'])} scaling steps)")
 PY
+
+# The wheeltec-web benchmark's quick mode (about a minute): 8 Foxglove clients and the page in
+# headless Chromium must each have received records, and the CPU and memory figures be there.
+if [[ -x $BUILD_DIR/web/wheeltec-web ]]; then
+  web_out=$(mktemp -d)
+  if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$web_out "$REPO_ROOT/scripts/bench-web.sh" --quick >"$web_out/output.txt" 2>&1; then
+    cat "$web_out/output.txt" >&2
+    rm -rf "$web_out"
+    echo "bench smoke: scripts/bench-web.sh --quick failed" >&2
+    exit 1
+  fi
+  python3 - "$web_out/web.json" <<'PY'
+import json, sys
+w = json.load(open(sys.argv[1]))
+figures = {"Foxglove messages": w["foxglove"]["viewers"]["n"], "daemon messages": w["foxglove"]["daemon"]["n"],
+           "page messages": w["browser"]["page"]["n"], "records in the CPU window": w["cpu"]["records"],
+           "RSS": w["memory"]["rss_kib"]}
+missing = [name for name, value in figures.items() if not value]
+if missing:
+    sys.exit("bench smoke: wheeltec-web benchmark: no " + ", no ".join(missing))
+print(f"bench smoke: wheeltec-web benchmark ran ({w['foxglove']['viewers']['n']} Foxglove and "
+      f"{w['browser']['page']['n']} page messages timed)")
+PY
+  rm -rf "$web_out"
+fi

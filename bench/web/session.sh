@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# One benchmark session of wheeltec-web (scripts/bench-web.sh runs it in scripts/vcan-run):
+# wheeltec-emu, wheeltecd and wheeltec-web on vcan0, headless Chromium unless --no-browser,
+# then bench/web/web_bench.cjs. Everything it starts ends with it.
+#   session.sh BUILD_DIR NODE_MODULES TELEMETRY_HZ SECONDS [--no-browser]
+set -euo pipefail
+build=$1 node_modules=$2 hz=$3 seconds=$4 browser=${5:-}
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+repo=$(cd "$here/../.." && pwd)
+work=$(mktemp -d /tmp/bench-web.XXXXXX)
+pids=()
+trap 'kill "${pids[@]}" 2>/dev/null; wait 2>/dev/null; rm -rf "$work"' EXIT
+port=18090
+
+"$build/emulator/wheeltec-emu" --interface vcan0 --boot-delay 0 --no-self-test --telemetry-hz "$hz" \
+  >"$work/emu.log" 2>&1 &
+pids+=($!)
+"$build/daemon/wheeltecd" --interface vcan0 --socket "$work/wheeltecd.sock" --log-level warn >"$work/daemon.log" 2>&1 &
+pids+=($!)
+"$build/web/wheeltec-web" --socket "$work/wheeltecd.sock" --listen "127.0.0.1:$port" --page-dir "$repo/web/page" \
+  --log-level warn >"$work/web.log" 2>&1 &
+web_pid=$!
+pids+=("$web_pid")
+for _ in $(seq 100); do
+  curl -sf --max-time 1 "http://127.0.0.1:$port/api/status" 2>/dev/null | grep -q '"online":true' && break
+  sleep 0.1
+done
+
+args=(--socket "$work/wheeltecd.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds")
+if [[ $browser != --no-browser ]]; then
+  mkdir -p "$work/home"
+  HOME=$work/home /usr/bin/chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
+    --disable-background-networking --disable-component-update --disable-sync --user-data-dir="$work/profile" \
+    --remote-debugging-port=9224 about:blank >"$work/chromium.log" 2>&1 &
+  pids+=($!)
+  args+=(--devtools 9224)
+fi
+NODE_PATH=$node_modules node "$here/web_bench.cjs" "${args[@]}"

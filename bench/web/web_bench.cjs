@@ -1,0 +1,226 @@
+// wheeltec-web's benchmark (issue #14, item 7), run by scripts/bench-web.sh inside one
+// scripts/vcan-run session next to wheeltec-emu, wheeltecd and wheeltec-web:
+//   1. latency from the 0x103 frame (the record's `time`: the kernel's receive time of its
+//      last CAN frame) to the message at 8 Foxglove clients (npm's @foxglove/ws-protocol),
+//      p50/p99, next to a direct subscriber of wheeltecd's socket in the same run;
+//   2. wheeltec-web's CPU per record with those 8 viewers (utime+stime from /proc over the
+//      run; User-Mode Linux counts them in 10 ms ticks) and its resident memory;
+//   3. with --devtools PORT (headless Chromium started with --remote-debugging-port and a
+//      blank page): the same latency at wheeltec-web's own page, measured in the page as
+//      its WebSocket delivers each telemetry message, next to the daemon's subscriber again.
+//   node web_bench.cjs --socket PATH --url http://127.0.0.1:PORT --web-pid PID
+//                      [--viewers 8] [--seconds 20] [--devtools PORT]
+// Prints a table and, last, one JSON line with every figure.
+'use strict';
+const fs = require('fs');
+const http = require('http');
+const net = require('net');
+const WebSocket = require('ws');
+const { FoxgloveClient } = require('@foxglove/ws-protocol');
+
+const options = { viewers: 8, seconds: 20 };
+for (let i = 2; i < process.argv.length; i += 2) options[process.argv[i].replace(/^--/, '').replace(/-./g, (m) => m[1].toUpperCase())] = process.argv[i + 1];
+const viewers = Number(options.viewers);
+const seconds = Number(options.seconds);
+const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+const nowS = () => (performance.timeOrigin + performance.now()) / 1000;
+function fail(why) { console.error(`web_bench: ${why}`); process.exit(1); }
+
+// Latencies in ms, collected while `recording` is true.
+class Latencies {
+  constructor() { this.values = []; this.recording = false; }
+  add(recordTime) { if (this.recording) this.values.push((nowS() - recordTime) * 1000); }
+  summary() {
+    const sorted = [...this.values].sort((a, b) => a - b);
+    const at = (q) => sorted.length ? sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))] : null;
+    return { n: sorted.length, p50_ms: at(0.5), p99_ms: at(0.99), max_ms: sorted.at(-1) ?? null };
+  }
+}
+
+// A JSON-RPC client of wheeltecd subscribed to telemetry.
+function daemonSubscriber(path, latencies) {
+  return new Promise((resolve, reject) => {
+    const socket = net.createConnection(path, () => {
+      socket.write('{"jsonrpc":"2.0","id":1,"method":"subscribe","params":{"topics":["telemetry"]}}\n');
+      resolve(socket);
+    });
+    socket.on('error', reject);
+    let buffered = '';
+    socket.on('data', (chunk) => {
+      buffered += chunk;
+      let end;
+      while ((end = buffered.indexOf('\n')) >= 0) {
+        const line = buffered.slice(0, end);
+        buffered = buffered.slice(end + 1);
+        const message = JSON.parse(line);
+        if (message.method === 'telemetry') latencies.add(message.params.time);
+      }
+    });
+  });
+}
+
+// A Foxglove client subscribed to /wheeltec/telemetry.
+function foxgloveViewer(url, latencies) {
+  return new Promise((resolve, reject) => {
+    const ws = new WebSocket(url, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
+    const client = new FoxgloveClient({ ws });
+    client.on('error', reject);
+    client.on('advertise', (channels) => {
+      const telemetry = channels.find((channel) => channel.topic === '/wheeltec/telemetry');
+      if (!telemetry) return reject(new Error('no /wheeltec/telemetry channel'));
+      client.subscribe(telemetry.id);
+      resolve(client);
+    });
+    client.on('message', ({ data }) => latencies.add(JSON.parse(new TextDecoder().decode(data)).time));
+  });
+}
+
+function cpuSeconds(pid) {
+  const fields = fs.readFileSync(`/proc/${pid}/stat`, 'utf8').split(') ')[1].split(' ');
+  return (Number(fields[11]) + Number(fields[12])) / 100;  // utime, stime in USER_HZ (100)
+}
+function memoryKiB(pid) {
+  const status = fs.readFileSync(`/proc/${pid}/status`, 'utf8');
+  const read = (name) => Number((status.match(new RegExp(`^${name}:\\s+(\\d+) kB`, 'm')) || [])[1]);
+  return { rss_kib: read('VmRSS'), peak_rss_kib: read('VmHWM') };
+}
+
+function getJson(port, path) {
+  return new Promise((resolve, reject) => {
+    http.get({ host: '127.0.0.1', port: Number(port), path }, (response) => {
+      let body = '';
+      response.on('data', (chunk) => (body += chunk));
+      response.on('end', () => { try { resolve(JSON.parse(body)); } catch (error) { reject(error); } });
+    }).on('error', reject);
+  });
+}
+
+// The page's own latency: a script that Chromium runs before the page's own wraps WebSocket
+// and times each telemetry message as the page receives it.
+const pageProbe = `(() => {
+  window.__benchLatencies = [];
+  const Native = window.WebSocket;
+  window.WebSocket = function (url, protocols) {
+    const ws = new Native(url, protocols);
+    ws.addEventListener('message', (event) => {
+      if (typeof event.data === 'string') return;
+      const arrived = (performance.timeOrigin + performance.now()) / 1000;
+      const parse = (buffer) => {
+        const bytes = new Uint8Array(buffer);
+        if (bytes[0] !== 1) return;
+        try {
+          const record = JSON.parse(new TextDecoder().decode(bytes.subarray(13)));
+          if (record.seq !== undefined && record.velocity && window.__benchRecording) {
+            window.__benchLatencies.push((arrived - record.time) * 1000);
+          }
+        } catch (error) { /* not JSON */ }
+      };
+      if (event.data instanceof ArrayBuffer) parse(event.data); else event.data.arrayBuffer().then(parse);
+    });
+    return ws;
+  };
+  window.WebSocket.prototype = Native.prototype;
+  Object.assign(window.WebSocket, { CONNECTING: 0, OPEN: 1, CLOSING: 2, CLOSED: 3 });
+})();`;
+
+async function browserLatencies(port, pageUrl, daemonLatencies) {
+  let target = null;
+  for (let i = 0; i < 300 && !target; ++i) {
+    try { target = (await getJson(port, '/json/list')).find((t) => t.type === 'page'); } catch (error) { /* starting */ }
+    if (!target) await sleep(200);
+  }
+  if (!target) fail('no page target in Chromium');
+  const ws = new WebSocket(target.webSocketDebuggerUrl, { perMessageDeflate: false });
+  await new Promise((resolve, reject) => { ws.on('open', resolve); ws.on('error', reject); });
+  let nextId = 1;
+  const pending = new Map();
+  ws.on('message', (data) => {
+    const message = JSON.parse(data);
+    if (message.id && pending.has(message.id)) { pending.get(message.id)(message); pending.delete(message.id); }
+  });
+  const call = (method, params = {}) => new Promise((resolve) => {
+    const id = nextId++;
+    pending.set(id, resolve);
+    ws.send(JSON.stringify({ id, method, params }));
+  });
+  const evaluate = async (expression) => (await call('Runtime.evaluate', { expression, returnByValue: true })).result.result.value;
+  await call('Page.enable');
+  await call('Page.addScriptToEvaluateOnNewDocument', { source: pageProbe });
+  await call('Page.navigate', { url: pageUrl });
+  for (let i = 0; i < 300; ++i) {
+    if (await evaluate('document.body && document.body.dataset.live === "true"')) break;
+    await sleep(200);
+  }
+  await sleep(2000);  // past the page's start-up
+  await evaluate('window.__benchRecording = true');
+  daemonLatencies.recording = true;
+  await sleep(seconds * 1000);
+  daemonLatencies.recording = false;
+  const values = await evaluate('window.__benchRecording = false, window.__benchLatencies');
+  ws.close();
+  const page = new Latencies();
+  page.values = values || [];
+  return page;
+}
+
+const row = (name, s) => `| ${name} | ${s.n} | ${s.p50_ms?.toFixed(2)} | ${s.p99_ms?.toFixed(2)} | ${s.max_ms?.toFixed(2)} |`;
+
+async function main() {
+  setTimeout(() => fail('timed out'), (3 * seconds + 120) * 1000).unref();
+  const wsUrl = options.url.replace(/^http/, 'ws');
+  const result = { viewers, seconds };
+
+  const daemon = new Latencies();
+  const foxglove = new Latencies();
+  const daemonSocket = await daemonSubscriber(options.socket, daemon);
+  const clients = [];
+  for (let i = 0; i < viewers; ++i) clients.push(await foxgloveViewer(wsUrl, foxglove));
+  await sleep(2000);
+  let records = 0;
+  const counter = new Latencies();
+  counter.add = () => { if (counter.recording) ++records; };
+  const counting = await daemonSubscriber(options.socket, counter);
+  await sleep(500);
+  const cpuBefore = cpuSeconds(options.webPid);
+  daemon.recording = foxglove.recording = counter.recording = true;
+  await sleep(seconds * 1000);
+  daemon.recording = foxglove.recording = counter.recording = false;
+  const cpu = cpuSeconds(options.webPid) - cpuBefore;
+  counting.destroy();
+  result.foxglove = { daemon: daemon.summary(), viewers: foxglove.summary() };
+  result.cpu = { records, cpu_s: cpu, us_per_record: records ? (cpu / records) * 1e6 : null,
+                 us_per_message: records ? (cpu / (records * viewers)) * 1e6 : null, tick_s: 0.01 };
+  result.memory = memoryKiB(options.webPid);
+  for (const client of clients) client.close();
+
+  if (options.devtools) {
+    const daemonAgain = new Latencies();
+    daemonSocket.destroy();
+    const again = await daemonSubscriber(options.socket, daemonAgain);
+    const page = await browserLatencies(options.devtools, options.url + '/', daemonAgain);
+    again.destroy();
+    result.browser = { daemon: daemonAgain.summary(), page: page.summary() };
+  } else {
+    daemonSocket.destroy();
+  }
+
+  console.log('| 0x103 frame -> message | n | p50 ms | p99 ms | max ms |');
+  console.log('|---|---|---|---|---|');
+  console.log(row('wheeltecd subscriber (same run)', result.foxglove.daemon));
+  console.log(row(`${viewers} Foxglove clients via wheeltec-web`, result.foxglove.viewers));
+  if (result.browser) {
+    console.log(row('wheeltecd subscriber (browser run)', result.browser.daemon));
+    console.log(row('the page in headless Chromium', result.browser.page));
+  }
+  console.log(`wheeltec-web CPU with ${viewers} viewers: ${cpu.toFixed(2)} s for ${records} records = ` +
+              `${result.cpu.us_per_record?.toFixed(0)} us/record (${result.cpu.us_per_message?.toFixed(1)} us per message sent; ` +
+              `10 ms ticks)`);
+  console.log(`wheeltec-web memory: RSS ${result.memory.rss_kib} KiB, peak ${result.memory.peak_rss_kib} KiB`);
+  console.log(JSON.stringify(result));
+  if (!result.foxglove.viewers.n || !result.foxglove.daemon.n || (result.browser && !result.browser.page.n)) {
+    fail('some client received nothing');
+  }
+  process.exit(0);
+}
+
+main().catch((error) => fail(error.stack || String(error)));

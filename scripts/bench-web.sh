@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Runs the benchmark of wheeltec-web, the live view (issue #14), and prints its figures:
+# wheeltec-emu, wheeltecd and wheeltec-web on vcan0 in one scripts/vcan-run session (User-Mode
+# Linux on hosts without SocketCAN), measured by bench/web/web_bench.cjs:
+#   1. 0x103 frame (kernel timestamp) -> the record at 8 Foxglove clients, p50/p99, next to a
+#      direct subscriber of wheeltecd in the same run;
+#   2. wheeltec-web's CPU per record with those 8 viewers, and its RSS;
+#   3. the same latency at the page in headless Chromium, next to the daemon's subscriber.
+# Telemetry at 50 Hz for 20 s per run; --quick: 5 s, to check that it works.
+#
+#   scripts/bench-web.sh [--quick]
+#
+# BUILD_DIR (default build/) must hold wheeltec-emu, wheeltecd and wheeltec-web; npm's
+# Foxglove client is installed into BUILD_DIR/tests/web/node from tests/web/package-lock.json
+# when it is not there yet. Writes $BENCH_OUT (default $BUILD_DIR/bench-results)/web-table.md.
+set -euo pipefail
+
+REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
+BENCH_OUT=${BENCH_OUT:-$BUILD_DIR/bench-results}
+seconds=20
+case "${1:-}" in
+  --quick) seconds=5 ;;
+  "") ;;
+  -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+  *) echo "bench-web.sh: unknown argument $1" >&2; exit 2 ;;
+esac
+
+for program in emulator/wheeltec-emu daemon/wheeltecd web/wheeltec-web; do
+  [[ -x $BUILD_DIR/$program ]] || { echo "bench-web.sh: $BUILD_DIR/$program is not built" >&2; exit 1; }
+done
+node_dir=$BUILD_DIR/tests/web/node
+if [[ ! -d $node_dir/node_modules/@foxglove/ws-protocol ]]; then
+  mkdir -p "$node_dir"
+  cp "$REPO_ROOT/tests/web/package.json" "$REPO_ROOT/tests/web/package-lock.json" "$node_dir/"
+  (cd "$node_dir" && npm ci --no-audit --no-fund >/dev/null)
+fi
+mkdir -p "$BENCH_OUT"
+
+started=$SECONDS
+status=0
+"$REPO_ROOT/scripts/vcan-run" -- "$REPO_ROOT/bench/web/session.sh" "$BUILD_DIR" "$node_dir/node_modules" 50 "$seconds" \
+  >"$BENCH_OUT/web-run.txt" || status=$?
+{
+  echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs, load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s including the virtual machine's boot; telemetry at 50 Hz, ${seconds} s per run."
+  echo
+  grep -v '^{' "$BENCH_OUT/web-run.txt" || true
+} >"$BENCH_OUT/web-table.md"
+grep '^{' "$BENCH_OUT/web-run.txt" | tail -n 1 >"$BENCH_OUT/web.json" || true
+echo
+cat "$BENCH_OUT/web-table.md"
+echo
+echo "bench-web.sh: figures in $BENCH_OUT (web-table.md, web.json)"
+exit "$status"
