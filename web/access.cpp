@@ -1,5 +1,7 @@
 #include "access.hpp"
 
+#include <arpa/inet.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -105,6 +107,21 @@ bool origin_allowed(std::optional<std::string_view> origin, std::string_view hos
   if (!own_host.empty() && (given == "http://" + own_host || given == "https://" + own_host)) return true;
   return std::any_of(allowed.begin(), allowed.end(),
                      [&](const std::string& entry) { return normalised_origin(entry) == given; });
+}
+
+bool is_loopback_host(std::string_view host) {
+  std::string name = lower(trim(host));
+  if (name.starts_with("[")) {
+    const auto close = name.find(']');
+    if (close == std::string::npos) return false;
+    const std::string_view rest = std::string_view(name).substr(close + 1);
+    if (!rest.empty() && (rest.front() != ':' || rest.size() == 1)) return false;
+    return name.substr(1, close - 1) == "::1";
+  }
+  if (const auto colon = name.find(':'); colon != std::string::npos) name.resize(colon);
+  if (name == "localhost") return true;
+  in_addr address{};
+  return ::inet_pton(AF_INET, name.c_str(), &address) == 1 && (ntohl(address.s_addr) >> 24) == 127;
 }
 
 bool offers_subprotocol(std::string_view header, std::string_view protocol) {

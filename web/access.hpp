@@ -29,6 +29,12 @@ bool tokens_equal(std::string_view given, std::string_view expected);
 bool origin_allowed(std::optional<std::string_view> origin, std::string_view host,
                     const std::vector<std::string>& allowed);
 
+// Whether a Host header names this machine's loopback: localhost, 127.x.y.z or [::1], with
+// or without a port. A page of another site that rebinds its DNS name to 127.0.0.1 reaches
+// the server from the loopback too, but under its own name: trusting the loopback address
+// alone would let any web page open on the robot drive it.
+bool is_loopback_host(std::string_view host);
+
 // Whether a Sec-WebSocket-Protocol header (a comma-separated list) offers `protocol`.
 bool offers_subprotocol(std::string_view header, std::string_view protocol);
 

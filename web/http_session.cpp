@@ -107,7 +107,8 @@ void HttpSession::upgrade(Request request) {
   if (token && !token_ok) return respond_text(http::status::unauthorized, "wrong token", false);
   boost::system::error_code ec;
   const auto peer = stream_.socket().remote_endpoint(ec);
-  const bool trusted_local = server_.config().trust_localhost && !ec && peer.address().is_loopback();
+  const bool trusted_local =
+      server_.config().trust_localhost && !ec && peer.address().is_loopback() && is_loopback_host(host);
   const bool may_drive = token_ok || trusted_local;
   if (!server_.viewer_slot_free()) {
     return respond_text(http::status::service_unavailable,

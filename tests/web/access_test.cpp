@@ -36,6 +36,18 @@ TEST(Access, TokensMustMatchExactly) {
   EXPECT_EQ(token_from_file_content("  tok en\n\n"), "tok en");
 }
 
+TEST(Access, LoopbackHostsAreNamedAsSuch) {
+  for (const char* host : {"127.0.0.1:8080", "127.0.0.1", "localhost:8080", "LOCALHOST", "[::1]:8080", "[::1]",
+                           "127.1.2.3:80"}) {
+    EXPECT_TRUE(is_loopback_host(host)) << host;
+  }
+  // A DNS name rebound to 127.0.0.1 arrives from the loopback under its own name.
+  for (const char* host : {"evil.example:8080", "robot:8080", "128.0.0.1", "[::2]:8080", "[::1", "", "localhost.evil",
+                           "127.0.0.1.evil.example"}) {
+    EXPECT_FALSE(is_loopback_host(host)) << host;
+  }
+}
+
 TEST(Access, OriginCheck) {
   const std::vector<std::string> allowed = {"https://app.foxglove.dev"};
   EXPECT_TRUE(origin_allowed(std::nullopt, "robot:8080", allowed));
