@@ -18,15 +18,29 @@ echo "== ctest done in $SECONDS s"
 # Further stages that need builds of their own (sanitizers, fuzzing, packaging, cross
 # builds): each is a script in scripts/test.d/, run in name order with BUILD_DIR set.
 export BUILD_DIR REPO_ROOT
-passed=0 failed=0
+# Each stage's output is also kept in $BUILD_DIR-stages/, so that the end of the log can
+# repeat why a stage failed: a CI report often shows no more than the log's last lines.
+stage_logs=$BUILD_DIR-stages
+rm -rf -- "$stage_logs"
+mkdir -p "$stage_logs"
+passed=0 failed_stages=()
 for stage in "$REPO_ROOT"/scripts/test.d/*.sh; do
   [[ -e $stage ]] || continue
-  echo "== stage $(basename "$stage")"
+  name=$(basename "$stage" .sh)
+  echo "== stage $name.sh"
   started=$SECONDS
-  if bash "$stage"; then result=passed passed=$((passed + 1)); else result=FAILED failed=$((failed + 1)); fi
-  echo "== stage $(basename "$stage") $result in $((SECONDS - started)) s"
+  if bash "$stage" 2>&1 | tee "$stage_logs/$name.log"; then
+    result=passed passed=$((passed + 1))
+  else
+    result=FAILED failed_stages+=("$name")
+  fi
+  echo "== stage $name.sh $result in $((SECONDS - started)) s"
 done
-if ((passed + failed > 0)); then
-  echo "stages: $passed passed, $failed failed"
+for name in "${failed_stages[@]}"; do
+  echo "== FAILED stage $name.sh, its last 60 lines (all of it: $stage_logs/$name.log):"
+  tail -n 60 "$stage_logs/$name.log"
+done
+if ((passed + ${#failed_stages[@]} > 0)); then
+  echo "stages: $passed passed, ${#failed_stages[@]} failed${failed_stages[*]:+: ${failed_stages[*]}}"
 fi
-((failed == 0))
+((${#failed_stages[@]} == 0))

@@ -34,11 +34,15 @@ declare -A programs=(
 # wheeltecctl is left out: it touches no CAN socket, its logic runs under ASan in the unit tests (20-sanitizers.sh),
 # and valgrind's start-up in UML (~3 s) would add minutes to the Wheeltecctl suite.
 ln -s "$BUILD_DIR/cli/wheeltecctl" "$work/bin/wheeltecctl"
+# --vgdb=no: no gdbserver pipes. Their names in /tmp hold the process id, and two suites
+# run at once in two User-Mode Linux sessions that share the host's /tmp and repeat process
+# ids: one valgrind removed the other's pipes, which then wrote "could not unlink
+# /tmp/vgdb-pipe-..." into its log, a line that is not a report but failed the stage.
 for name in "${!programs[@]}"; do
   [[ -x ${programs[$name]} ]] || { echo "memcheck: ${programs[$name]} is not built" >&2; exit 1; }
   cat >"$work/bin/$name" <<EOF
 #!/bin/sh
-exec valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect \\
+exec valgrind --quiet --vgdb=no --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect \\
   --errors-for-leak-kinds=definite,indirect --log-file=$work/logs/$name.\${MEMCHECK_SUITE:-all}.%p.log ${programs[$name]} "\$@"
 EOF
   chmod +x "$work/bin/$name"
