@@ -59,10 +59,7 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
   app.add_option("--dialect", options.dialect, "CAN dialect, overrides can.dialect")
       ->type_name(fmt::format("{}", fmt::join(enum_names<Dialect>(), "|")))
       ->check(CLI::IsMember(enum_names<Dialect>()).description(""));
-  const std::vector<std::string> log_levels(kLogLevels.begin(), kLogLevels.end());
-  app.add_option("--log-level", options.log_level, "Log level, overrides log.level")
-      ->type_name(fmt::format("{}", fmt::join(log_levels, "|")))
-      ->check(CLI::IsMember(log_levels).description(""));
+  command_line::add_log_level_option(app, options.log_level);
   app.add_flag("--check-config", options.check_config, "Validate the merged configuration, print it as JSON and exit");
 
   if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;

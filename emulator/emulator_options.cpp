@@ -139,9 +139,7 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
                                        "after SECONDS, go silent for 0.5 s and boot again (once), forgetting "
                                        "any enable and command")
                             ->check(finite_in(0.0, 1e9));
-  app.add_option("--log-level", options.log_level, "log level")
-      ->check(CLI::IsMember(std::vector<std::string>(kLogLevels.begin(), kLogLevels.end())))
-      ->capture_default_str();
+  command_line::add_log_level_option(app, options.log_level, "log level")->capture_default_str();
   std::uint32_t seed = 0;
   CLI::Option* seed_option = app.add_option("--seed", seed, "seed of sensor noise and fault injection");
 

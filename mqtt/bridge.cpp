@@ -8,8 +8,6 @@ namespace {
 
 using client::Json;
 
-constexpr std::chrono::milliseconds kDaemonRetryFirst{200};
-constexpr std::chrono::milliseconds kDaemonRetryLongest{5000};
 constexpr std::string_view kAnonymousOperator = "";
 
 std::chrono::milliseconds milliseconds(double seconds) {
@@ -26,8 +24,7 @@ Bridge::Bridge(boost::asio::io_context& io, BridgeConfig config)
       topics_(config_.prefix, *config_.robot),
       mqtt_(io.get_executor(), config_.broker, config_.broker.client_id.value_or(default_client_id(config_)),
             LastWill{topics_.online(), "false"}),
-      daemon_backoff_(kDaemonRetryFirst, kDaemonRetryLongest),
-      daemon_retry_timer_(io),
+      daemon_(io.get_executor(), config_.socket),
       stats_timer_(io),
       operators_(io.get_executor(), config_.socket, static_cast<std::size_t>(config_.operators.max),
                  milliseconds(config_.operators.idle_s)),
@@ -38,6 +35,10 @@ Bridge::Bridge(boost::asio::io_context& io, BridgeConfig config)
   mqtt_.on_message([this](const MqttMessage& message) { handle_message(message); });
   mqtt_.on_drained([this] { flush_backlog(); });
   mqtt_.subscribe(topics_.command_filter(), 1);
+  daemon_.on_telemetry([this](const client::Telemetry& record) { handle_telemetry(record); });
+  daemon_.on_status([this](const client::Status& status) { handle_status(status.json); });
+  daemon_.on_up([this] { daemon_up(); });
+  daemon_.on_down([this](const client::Subscription::Outage& outage) { daemon_down(outage); });
 }
 
 Bridge::~Bridge() = default;
@@ -45,7 +46,7 @@ Bridge::~Bridge() = default;
 void Bridge::start() {
   spdlog::info("robot \"{}\": topics under {}/{}, daemon at {}", *config_.robot, config_.prefix, *config_.robot,
                config_.socket);
-  connect_daemon();
+  daemon_.start();
   mqtt_.start();
   run_stats_timer();
 }
@@ -54,51 +55,17 @@ void Bridge::stop() {
   stopped_ = true;
   mqtt_.stop("false");
   operators_.close_all();
-  if (daemon_) daemon_->close();
-  daemon_retry_timer_.cancel();
+  daemon_.stop();
   stats_timer_.cancel();
 }
 
 // --- the daemon ---
 
-void Bridge::connect_daemon() {
-  daemon_ = std::make_unique<client::Connection>(io_.get_executor());
-  daemon_->on_telemetry([this](const client::Telemetry& record) { handle_telemetry(record); });
-  daemon_->on_status([this](const client::Status& status) { handle_status(status.json); });
-  daemon_->on_close([this](boost::system::error_code ec) { daemon_lost(ec); });
-  daemon_->async_connect(config_.socket, [this](boost::system::error_code ec) {
-    if (ec) return daemon_lost(ec);
-    daemon_->async_subscribe([this](boost::system::error_code ec, const Json&) {
-      if (ec) {
-        spdlog::error("wheeltecd refused the subscription: {}", ec.message());
-        return daemon_->close(), daemon_lost(ec);
-      }
-      daemon_connected();
-    });
-  });
-}
+void Bridge::daemon_up() { spdlog::info("connected to wheeltecd at {}", config_.socket); }
 
-void Bridge::daemon_connected() {
-  daemon_ready_ = true;
-  daemon_backoff_.reset();
-  ++counters_.daemon_connects;
-  spdlog::info("connected to wheeltecd at {}", config_.socket);
-  // Notifications come on change only: the current status once, for retained status.
-  daemon_->async_call("status", nullptr, [this](boost::system::error_code ec, const Json& status) {
-    if (!ec) handle_status(status);
-  });
-}
-
-void Bridge::daemon_lost(boost::system::error_code ec) {
-  if (stopped_) return;
-  if (daemon_ready_) spdlog::warn("lost wheeltecd at {}: {}", config_.socket, ec.message());
-  daemon_ready_ = false;
-  const auto delay = daemon_backoff_.next();
-  spdlog::debug("reconnecting to wheeltecd in {} ms", delay.count());
-  daemon_retry_timer_.expires_after(delay);
-  daemon_retry_timer_.async_wait([this](boost::system::error_code ec) {
-    if (!ec && !stopped_) connect_daemon();
-  });
+void Bridge::daemon_down(const client::Subscription::Outage& outage) {
+  if (outage.was_up) spdlog::warn("lost wheeltecd at {}: {}", config_.socket, outage.error.message());
+  spdlog::debug("reconnecting to wheeltecd in {} ms", outage.retry_in.count());
 }
 
 void Bridge::handle_telemetry(const client::Telemetry& record) {
@@ -134,8 +101,8 @@ void Bridge::broker_lost(const std::string& reason) {
   // Nobody remote can see or steer the robot now.
   spdlog::warn("broker lost ({}): stopping the robot", reason);
   ++counters_.stops_on_broker_loss;
-  if (daemon_ready_) {
-    daemon_->async_call("stop", nullptr, [](boost::system::error_code ec, const Json&) {
+  if (daemon_.up()) {
+    daemon_.async_call("stop", nullptr, [](boost::system::error_code ec, const Json&) {
       if (ec) spdlog::error("stop after losing the broker failed: {}", ec.message());
     });
   }
@@ -203,8 +170,7 @@ void Bridge::execute(const CommandRequest& request, const std::string& operator_
     operators_.call(operator_id, method, request.params, std::move(answer));
     return;
   }
-  if (!daemon_ready_) return answer(boost::asio::error::not_connected, nullptr);
-  daemon_->async_call(method, request.params, std::move(answer));
+  daemon_.async_call(method, request.params, std::move(answer));
 }
 
 void Bridge::send_reply(const ReplyTarget& target, const Json& reply) {
@@ -216,8 +182,8 @@ void Bridge::send_reply(const ReplyTarget& target, const Json& reply) {
 // --- stats ---
 
 Json Bridge::bridge_stats() const {
-  return Json{{"daemon_connected", daemon_ready_},
-              {"daemon_connects", counters_.daemon_connects},
+  return Json{{"daemon_connected", daemon_.up()},
+              {"daemon_connects", daemon_.connects()},
               {"broker_connects", mqtt_.connects()},
               {"broker_losses", mqtt_.losses()},
               {"stops_on_broker_loss", counters_.stops_on_broker_loss},
@@ -233,11 +199,11 @@ Json Bridge::bridge_stats() const {
 
 void Bridge::publish_stats() {
   if (!mqtt_.connected()) return;
-  if (!daemon_ready_) {
+  if (!daemon_.up()) {
     mqtt_.publish(topics_.stats(), Json{{"bridge", bridge_stats()}, {"wheeltecd", nullptr}}.dump(), 0, false);
     return;
   }
-  daemon_->async_call("stats", nullptr, [this](boost::system::error_code ec, const Json& stats) {
+  daemon_.async_call("stats", nullptr, [this](boost::system::error_code ec, const Json& stats) {
     const Json payload{{"bridge", bridge_stats()}, {"wheeltecd", ec ? Json() : stats}};
     mqtt_.publish(topics_.stats(), payload.dump(), 0, false);
   });

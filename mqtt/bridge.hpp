@@ -17,7 +17,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 
-#include "wheeltec/client/connection.hpp"
+#include "wheeltec/client/subscription.hpp"
 
 #include "bridge_config.hpp"
 #include "command.hpp"
@@ -51,12 +51,10 @@ class Bridge {
     std::uint64_t commands_refused = 0;  // by the bridge: malformed, retained, no daemon, no slot
     std::uint64_t commands_failed = 0;   // by the daemon: its JSON-RPC errors
     std::uint64_t stops_on_broker_loss = 0;
-    std::uint64_t daemon_connects = 0;
   };
 
-  void connect_daemon();
-  void daemon_connected();
-  void daemon_lost(boost::system::error_code ec);
+  void daemon_up();
+  void daemon_down(const client::Subscription::Outage& outage);
   void handle_telemetry(const client::Telemetry& record);
   void handle_status(const client::Json& status);
 
@@ -75,10 +73,7 @@ class Bridge {
   BridgeConfig config_;
   Topics topics_;
   MqttClient mqtt_;
-  std::unique_ptr<client::Connection> daemon_;
-  bool daemon_ready_ = false;  // connected and subscribed
-  Backoff daemon_backoff_;
-  boost::asio::steady_timer daemon_retry_timer_;
+  client::Subscription daemon_;
   boost::asio::steady_timer stats_timer_;
   OperatorSessions operators_;
   RateLimit telemetry_rate_;

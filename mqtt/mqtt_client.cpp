@@ -17,6 +17,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/client/backoff.hpp"
+
 #include "pacing.hpp"
 
 namespace wheeltec::mqtt {
@@ -360,7 +362,7 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
   boost::asio::steady_timer reach_deadline_;
   boost::asio::steady_timer retry_timer_;
   boost::asio::steady_timer misc_timer_;
-  Backoff backoff_;
+  client::Backoff backoff_;
   Phase phase_ = Phase::idle;
   std::uint64_t generation_ = 0;
   bool writing_ = false;

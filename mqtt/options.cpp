@@ -9,7 +9,6 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "wheeltec/client/connection.hpp"
@@ -41,10 +40,7 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
   app.add_option("--robot", options.robot, "Robot name, the topic level under the prefix; default the host name")
       ->type_name("NAME");
   app.add_option("--prefix", options.prefix, "Topic prefix, default wheeltec")->type_name("PREFIX");
-  const std::vector<std::string> log_levels(kLogLevels.begin(), kLogLevels.end());
-  app.add_option("--log-level", options.log_level, "Log level, overrides log.level")
-      ->type_name(fmt::format("{}", fmt::join(log_levels, "|")))
-      ->check(CLI::IsMember(log_levels).description(""));
+  command_line::add_log_level_option(app, options.log_level);
   if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
   return options;
 }

@@ -1,6 +1,7 @@
 #pragma once
 
-// Timing rules with the time passed in: the telemetry rate limit and the reconnect backoff.
+// The telemetry rate limit, with the time passed in. (The reconnect delays are
+// wheeltec::client::Backoff.)
 
 #include <algorithm>
 #include <chrono>
@@ -30,25 +31,6 @@ class RateLimit {
   SteadyClock::duration interval_;
   bool started_ = false;
   SteadyClock::time_point next_{};
-};
-
-// Delays that double from `first` up to `longest`; reset() after a success.
-class Backoff {
- public:
-  Backoff(std::chrono::milliseconds first, std::chrono::milliseconds longest)
-      : first_(first), longest_(std::max(first, longest)), next_(first) {}
-
-  std::chrono::milliseconds next() {
-    const auto delay = next_;
-    next_ = std::min(next_ * 2, longest_);
-    return delay;
-  }
-  void reset() { next_ = first_; }
-
- private:
-  std::chrono::milliseconds first_;
-  std::chrono::milliseconds longest_;
-  std::chrono::milliseconds next_;
 };
 
 }  // namespace wheeltec::mqtt

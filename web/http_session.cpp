@@ -1,5 +1,7 @@
 #include "http_session.hpp"
 
+#include <array>
+
 #include <boost/beast/http/error.hpp>
 #include <boost/beast/http/read.hpp>
 #include <boost/beast/http/write.hpp>
@@ -21,6 +23,24 @@ namespace http = beast::http;
 constexpr std::uint32_t kHeaderLimit = 8 * 1024;
 constexpr std::uint64_t kBodyLimit = 64 * 1024;
 constexpr std::chrono::seconds kRequestTimeout{30};
+
+}  // namespace
+
+// An /api/ path answered by one daemon request.
+struct DaemonRoute {
+  std::string_view path;
+  http::verb verb;
+  std::string_view method;
+  std::string_view failure;  // before the reason in a 503
+};
+
+namespace {
+
+constexpr std::array<DaemonRoute, 3> kDaemonRoutes{{
+    {"/api/status", http::verb::get, "status", ""},
+    {"/api/stats", http::verb::get, "stats", ""},
+    {"/api/stop", http::verb::post, "stop", "stop failed: "},
+}};
 
 std::optional<std::string_view> header(const http::request<http::string_body>& request, http::field field) {
   const auto found = request.find(field);
@@ -67,9 +87,9 @@ void HttpSession::handle(Request request) {
   if (beast::websocket::is_upgrade(request)) return upgrade(std::move(request));
   const std::string path(target_path(std::string_view(request.target().data(), request.target().size())));
   const bool keep_alive = request.keep_alive();
-  if (path == "/api/status") return api_status(request);
-  if (path == "/api/stop") return api_stop(request);
-  if (path == "/api/stats") return api_stats(request);
+  for (const DaemonRoute& route : kDaemonRoutes) {
+    if (path == route.path) return relay(request, route);
+  }
   const StaticFile* file = server_.files().find(path);
   if (file == nullptr) {
     return respond_text(http::status::not_found, fmt::format("no such page: {}", path.substr(0, 200)), keep_alive);
@@ -120,48 +140,21 @@ void HttpSession::upgrade(Request request) {
   viewer->start(std::move(request));
 }
 
-void HttpSession::api_status(const Request& request) {
+void HttpSession::relay(const Request& request, const DaemonRoute& route) {
   const bool keep_alive = request.keep_alive();
-  if (request.method() != http::verb::get) {
-    return respond_text(http::status::method_not_allowed, "/api/status takes GET", keep_alive, "GET");
+  if (request.method() != route.verb) {
+    const std::string verb(http::to_string(route.verb));
+    return respond_text(http::status::method_not_allowed, fmt::format("{} takes {}", route.path, verb), keep_alive,
+                        verb);
   }
-  server_.daemon_call("status", nullptr,
-                      [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& status) {
+  server_.daemon_call(std::string(route.method), nullptr,
+                      [self = shared_from_this(), keep_alive, failure = route.failure](boost::system::error_code ec,
+                                                                                      const client::Json& answer) {
                         if (ec) {
                           return self->respond_text(http::status::service_unavailable,
-                                                    self->daemon_problem(ec), keep_alive);
+                                                    std::string(failure) + self->daemon_problem(ec), keep_alive);
                         }
-                        self->respond(http::status::ok, "application/json", status.dump() + "\n", keep_alive);
-                      });
-}
-
-void HttpSession::api_stats(const Request& request) {
-  const bool keep_alive = request.keep_alive();
-  if (request.method() != http::verb::get) {
-    return respond_text(http::status::method_not_allowed, "/api/stats takes GET", keep_alive, "GET");
-  }
-  server_.daemon_call("stats", nullptr,
-                      [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& stats) {
-                        if (ec) {
-                          return self->respond_text(http::status::service_unavailable,
-                                                    self->daemon_problem(ec), keep_alive);
-                        }
-                        self->respond(http::status::ok, "application/json", stats.dump() + "\n", keep_alive);
-                      });
-}
-
-void HttpSession::api_stop(const Request& request) {
-  const bool keep_alive = request.keep_alive();
-  if (request.method() != http::verb::post) {
-    return respond_text(http::status::method_not_allowed, "/api/stop takes POST", keep_alive, "POST");
-  }
-  server_.daemon_call("stop", nullptr,
-                      [self = shared_from_this(), keep_alive](boost::system::error_code ec, const client::Json& result) {
-                        if (ec) {
-                          return self->respond_text(http::status::service_unavailable,
-                                                    "stop failed: " + self->daemon_problem(ec), keep_alive);
-                        }
-                        self->respond(http::status::ok, "application/json", result.dump() + "\n", keep_alive);
+                        self->respond(http::status::ok, "application/json", answer.dump() + "\n", keep_alive);
                       });
 }
 

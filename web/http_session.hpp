@@ -1,7 +1,7 @@
 #pragma once
 
 // One HTTP connection: reads requests with Beast's parser under size limits and a timeout,
-// answers the page, /api/status and /api/stop, and hands WebSocket upgrades that pass the
+// answers the page, /api/status, /api/stats and /api/stop, and hands WebSocket upgrades that pass the
 // checks (path, subprotocol, Origin, token, viewer limit) to a Viewer.
 
 #include <memory>
@@ -17,6 +17,7 @@
 namespace wheeltec::web {
 
 class Server;
+struct DaemonRoute;
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
@@ -33,9 +34,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void read();
   void handle(Request request);
   void upgrade(Request request);
-  void api_status(const Request& request);
-  void api_stop(const Request& request);
-  void api_stats(const Request& request);
+  // One of kDaemonRoutes: the daemon's answer as JSON, or 503 with the reason.
+  void relay(const Request& request, const DaemonRoute& route);
   std::string daemon_problem(boost::system::error_code ec) const;
   void respond(boost::beast::http::status status, std::string content_type, std::string body, bool keep_alive,
                std::string_view allow = {});

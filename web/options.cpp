@@ -2,13 +2,11 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "wheeltec/client/connection.hpp"
 #include "wheeltec/command_line.hpp"
 #include "wheeltec/service/config_file.hpp"
-#include "wheeltec/types.hpp"
 
 namespace wheeltec::web {
 
@@ -31,10 +29,7 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
       ->type_name("ORIGIN");
   app.add_option("--page-dir", options.page_dir, "Directory of the page's files, default the installed ones")
       ->type_name("DIR");
-  const std::vector<std::string> log_levels(kLogLevels.begin(), kLogLevels.end());
-  app.add_option("--log-level", options.log_level, "Log level, overrides log.level")
-      ->type_name(fmt::format("{}", fmt::join(log_levels, "|")))
-      ->check(CLI::IsMember(log_levels).description(""));
+  command_line::add_log_level_option(app, options.log_level);
   if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
   return options;
 }

@@ -14,7 +14,6 @@
 namespace wheeltec::web {
 namespace {
 
-constexpr std::chrono::milliseconds kDaemonRetry{1000};
 // HTTP connections at once, WebSocket viewers among them (those have their own limit).
 std::size_t connection_limit(const WebConfig& config) { return static_cast<std::size_t>(config.max_clients) + 32; }
 
@@ -35,7 +34,12 @@ Server::Server(boost::asio::io_context& io, WebConfig config, std::optional<std:
       token_(std::move(token)),
       files_(std::move(files)),
       acceptor_(io, endpoint_of(config_.listen)),
-      retry_timer_(io) {}
+      daemon_(io.get_executor(), config_.socket) {
+  daemon_.on_telemetry([this](const client::Telemetry& record) { handle_telemetry(record); });
+  daemon_.on_status([this](const client::Status& status) { handle_status(status.json); });
+  daemon_.on_up([this] { daemon_up(); });
+  daemon_.on_down([this](const client::Subscription::Outage& outage) { daemon_down(outage); });
+}
 
 Server::~Server() = default;
 
@@ -45,17 +49,16 @@ void Server::start() {
   spdlog::info("serving on http://{}:{}/, wheeltecd at {}, driving {}", config_.listen.address, local_endpoint().port(),
                config_.socket, token_ ? "with the token" : "disabled (no --token-file)");
   accept();
-  connect_daemon();
+  daemon_.start();
 }
 
 void Server::stop() {
   stopped_ = true;
   boost::system::error_code ignored;
   acceptor_.close(ignored);
-  retry_timer_.cancel();
   for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) viewer->shutdown();
   viewers_.clear();
-  if (daemon_) daemon_->close();
+  daemon_.stop();
 }
 
 bool Server::token_matches(const std::optional<std::string>& given) const {
@@ -91,48 +94,22 @@ void Server::accept() {
 }
 
 void Server::daemon_call(const std::string& method, client::Json params, client::Connection::CallHandler handler) {
-  if (!daemon_ready_) return handler(boost::asio::error::not_connected, nullptr);
-  daemon_->async_call(method, std::move(params), std::move(handler));
+  daemon_.async_call(method, std::move(params), std::move(handler));
 }
 
-void Server::connect_daemon() {
-  daemon_ = std::make_unique<client::Connection>(io_.get_executor());
-  daemon_->on_telemetry([this](const client::Telemetry& record) { handle_telemetry(record); });
-  daemon_->on_status([this](const client::Status& status) { handle_status(status.json); });
-  daemon_->on_close([this](boost::system::error_code ec) { daemon_lost(ec); });
-  daemon_->async_connect(config_.socket, [this](boost::system::error_code ec) {
-    if (ec) return daemon_lost(ec);
-    daemon_->async_subscribe([this](boost::system::error_code ec, const client::Json&) {
-      if (ec) {
-        spdlog::error("wheeltecd refused the subscription: {}", ec.message());
-        daemon_->close();
-        return daemon_lost(ec);
-      }
-      daemon_ready_ = true;
-      spdlog::info("connected to wheeltecd at {}", config_.socket);
-      for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
-        viewer->send_status(foxglove::Level::info, "wheeltecd is reachable", "daemon");
-      }
-      daemon_->async_call("status", nullptr, [this](boost::system::error_code ec, const client::Json& status) {
-        if (!ec) handle_status(status);
-      });
-    });
-  });
-}
-
-void Server::daemon_lost(boost::system::error_code ec) {
-  if (stopped_) return;
-  if (daemon_ready_) {
-    spdlog::warn("lost wheeltecd at {}: {}", config_.socket, ec.message());
-    for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
-      viewer->send_status(foxglove::Level::warning, "wheeltecd is not reachable: " + ec.message(), "daemon");
-    }
+void Server::daemon_up() {
+  spdlog::info("connected to wheeltecd at {}", config_.socket);
+  for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
+    viewer->send_status(foxglove::Level::info, "wheeltecd is reachable", "daemon");
   }
-  daemon_ready_ = false;
-  retry_timer_.expires_after(kDaemonRetry);
-  retry_timer_.async_wait([this](boost::system::error_code ec) {
-    if (!ec && !stopped_) connect_daemon();
-  });
+}
+
+void Server::daemon_down(const client::Subscription::Outage& outage) {
+  if (!outage.was_up) return;
+  spdlog::warn("lost wheeltecd at {}: {}", config_.socket, outage.error.message());
+  for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
+    viewer->send_status(foxglove::Level::warning, "wheeltecd is not reachable: " + outage.error.message(), "daemon");
+  }
 }
 
 void Server::handle_telemetry(const client::Telemetry& record) {

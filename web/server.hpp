@@ -12,9 +12,8 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
-#include <boost/asio/steady_timer.hpp>
 
-#include "wheeltec/client/connection.hpp"
+#include "wheeltec/client/subscription.hpp"
 
 #include "static_files.hpp"
 #include "web_config.hpp"
@@ -52,8 +51,8 @@ class Server {
 
  private:
   void accept();
-  void connect_daemon();
-  void daemon_lost(boost::system::error_code ec);
+  void daemon_up();
+  void daemon_down(const client::Subscription::Outage& outage);
   void handle_telemetry(const client::Telemetry& record);
   void handle_status(const client::Json& status);
 
@@ -62,9 +61,7 @@ class Server {
   std::optional<std::string> token_;
   StaticFiles files_;
   boost::asio::ip::tcp::acceptor acceptor_;
-  std::unique_ptr<client::Connection> daemon_;
-  bool daemon_ready_ = false;
-  boost::asio::steady_timer retry_timer_;
+  client::Subscription daemon_;
   std::set<std::shared_ptr<Viewer>> viewers_;
   std::shared_ptr<std::size_t> connections_ = std::make_shared<std::size_t>(0);  // HTTP sessions open
   std::uint64_t sessions_ = 0;

@@ -1,10 +1,11 @@
 // wheeltec::client against the real daemon and emulator: typed answers and errors, typed
 // notifications, a Driver that keeps the deadman alive while it drives and stops repeating
-// at the first refusal.
+// at the first refusal, a Subscription that comes back with a restarted daemon.
 
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 
 #include <boost/asio/steady_timer.hpp>
 #include <boost/system/system_error.hpp>
@@ -111,6 +112,68 @@ TEST_F(ClientLibrary, DriverStopsRepeatingAtTheFirstRefusal) {
   EXPECT_EQ(refusals, 1);
   EXPECT_EQ(code, -32001) << "another client holds control";
   EXPECT_FALSE(driver.driving());
+}
+
+TEST_F(ClientLibrary, SubscriptionComesBackWithARestartedDaemon) {
+  boost::asio::io_context io;
+  client::Subscription subscription(io.get_executor(), gateway_->socket_path().string(), {50ms, 200ms});
+  std::vector<std::uint64_t> seqs;
+  std::vector<client::Status> statuses;
+  std::vector<client::Subscription::Outage> outages;
+  int ups = 0;
+  subscription.on_telemetry([&](const client::Telemetry& record) { seqs.push_back(record.seq); });
+  subscription.on_status([&](const client::Status& status) { statuses.push_back(status); });
+  subscription.on_up([&] { ++ups; });
+  subscription.on_down([&](const client::Subscription::Outage& outage) { outages.push_back(outage); });
+  const auto run_for = [&](std::chrono::milliseconds duration) {
+    io.restart();
+    io.run_for(duration);
+  };
+
+  subscription.start();
+  run_for(500ms);
+  ASSERT_TRUE(subscription.up());
+  EXPECT_EQ(ups, 1);
+  ASSERT_FALSE(statuses.empty()) << "the status is read once after subscribing";
+  EXPECT_TRUE(statuses.front().online);
+  ASSERT_GE(seqs.size(), 5u);
+  EXPECT_TRUE(outages.empty());
+
+  gateway_->daemon().send_signal(SIGTERM);
+  ASSERT_TRUE(gateway_->daemon().wait_for_exit(5s).has_value());
+  run_for(300ms);
+  EXPECT_FALSE(subscription.up());
+  ASSERT_FALSE(outages.empty());
+  EXPECT_TRUE(outages.front().was_up);
+  EXPECT_EQ(outages.front().retry_in, 50ms);
+  for (std::size_t i = 1; i < outages.size(); ++i) {
+    EXPECT_FALSE(outages[i].was_up) << "attempts on a daemon that is gone";
+    EXPECT_EQ(outages[i].retry_in, std::min(outages[i - 1].retry_in * 2, std::chrono::milliseconds(200)));
+  }
+  boost::system::error_code call_error;
+  subscription.async_call("status", nullptr, [&](boost::system::error_code ec, const client::Json&) { call_error = ec; });
+  run_for(50ms);
+  EXPECT_EQ(call_error, boost::asio::error::not_connected);
+
+  const std::size_t records_before = seqs.size();
+  const std::size_t statuses_before = statuses.size();
+  gateway_->start_daemon();
+  gateway_->wait_online();
+  run_for(800ms);
+  EXPECT_TRUE(subscription.up());
+  EXPECT_EQ(ups, 2);
+  EXPECT_EQ(subscription.connects(), 2u);
+  EXPECT_GT(statuses.size(), statuses_before) << "no status after subscribing again";
+  EXPECT_GE(seqs.size(), records_before + 5) << "telemetry did not resume";
+  bool answered = false;
+  subscription.async_call("status", nullptr, [&](boost::system::error_code ec, const client::Json&) { answered = !ec; });
+  run_for(200ms);
+  EXPECT_TRUE(answered);
+
+  subscription.stop();
+  const std::size_t records_at_stop = seqs.size();
+  run_for(200ms);
+  EXPECT_EQ(seqs.size(), records_at_stop) << "a handler ran after stop()";
 }
 
 }  // namespace

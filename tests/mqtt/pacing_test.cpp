@@ -60,16 +60,5 @@ TEST(MqttRateLimit, APauseEarnsNoBurst) {
   EXPECT_TRUE(limit.admit(t + 10s + 100ms));
 }
 
-TEST(MqttBackoff, DoublesUpToTheLongestAndResets) {
-  Backoff backoff(500ms, 3s);
-  EXPECT_EQ(backoff.next(), 500ms);
-  EXPECT_EQ(backoff.next(), 1000ms);
-  EXPECT_EQ(backoff.next(), 2000ms);
-  EXPECT_EQ(backoff.next(), 3000ms);
-  EXPECT_EQ(backoff.next(), 3000ms);
-  backoff.reset();
-  EXPECT_EQ(backoff.next(), 500ms);
-}
-
 }  // namespace
 }  // namespace wheeltec::mqtt

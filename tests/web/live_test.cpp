@@ -148,12 +148,19 @@ TEST_F(WebLive, ServesThePageItsScriptAndDebiansDygraphs) {
   EXPECT_GT(body_of(dygraphs).size(), 10000u);
 }
 
-TEST_F(WebLive, ApiStatusIsTheDaemonsStatusAndStopWorksForAnyone) {
+TEST_F(WebLive, ApiStatusAndStatsAreTheDaemonsAndStopWorksForAnyone) {
   const std::string response = http_exchange("GET /api/status HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
   ASSERT_NE(response.find("HTTP/1.1 200"), std::string::npos) << response;
   const json status = json::parse(body_of(response));
   EXPECT_EQ(status["bus"]["state"], "up");
   EXPECT_EQ(status["chassis"]["online"], true);
+  const std::string stats = http_exchange("GET /api/stats HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+  ASSERT_NE(stats.find("HTTP/1.1 200"), std::string::npos) << stats;
+  EXPECT_GT(json::parse(body_of(stats)).value("records_accepted", 0), 0) << stats;
+  const std::string stats_by_post =
+      http_exchange("POST /api/stats HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nConnection: close\r\n\r\n");
+  EXPECT_NE(stats_by_post.find("HTTP/1.1 405"), std::string::npos) << stats_by_post;
+  EXPECT_NE(stats_by_post.find("/api/stats takes GET"), std::string::npos) << stats_by_post;
   const std::string stop = http_exchange("POST /api/stop HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nConnection: close\r\n\r\n");
   EXPECT_NE(stop.find("HTTP/1.1 200"), std::string::npos) << stop;
 }

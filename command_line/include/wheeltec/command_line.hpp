@@ -1,17 +1,19 @@
 #pragma once
 
-// What the command lines of wheeltecd, wheeltecctl and wheeltec-emu share (CLI11,
-// header-only; each program links CLI11): parsing with one-line usage errors, the
-// --version flag and number checks.
+// What the programs' command lines share (CLI11, header-only; each program links CLI11):
+// parsing with one-line usage errors, the --version flag, the --log-level option and
+// number checks.
 
 #include <cmath>
 #include <iostream>
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "wheeltec/types.hpp"
 #include "wheeltec/version.hpp"
 
 namespace wheeltec::command_line {
@@ -34,6 +36,19 @@ inline std::optional<int> parse(CLI::App& app, int argc, char** argv) {
     return 2;
   }
   return std::nullopt;
+}
+
+// --log-level, one of kLogLevels. `Level` is std::string, or std::optional<std::string>
+// where a config file's log.level is the default.
+template <typename Level>
+CLI::Option* add_log_level_option(CLI::App& app, Level& level,
+                                  const std::string& description = "Log level, overrides log.level") {
+  const std::vector<std::string> levels(kLogLevels.begin(), kLogLevels.end());
+  std::string names;
+  for (const auto& name : levels) names += (names.empty() ? "" : "|") + name;
+  return app.add_option("--log-level", level, description)
+      ->type_name(names)
+      ->check(CLI::IsMember(levels).description(""));
 }
 
 enum class LowBound { inclusive, exclusive };

@@ -1,8 +1,8 @@
 #pragma once
 
 // wheeltec::client: a client library for programs that read a WHEELTEC chassis and drive
-// it through wheeltecd. Connection and Driver are asynchronous (Boost.Asio); Client is the
-// same, blocking, for scripts and simple programs.
+// it through wheeltecd. Connection, Driver and Subscription (one that reconnects) are
+// asynchronous (Boost.Asio); Client is the same, blocking, for scripts and simple programs.
 
 #include <stdexcept>
 #include <string>
@@ -12,6 +12,7 @@
 #include "wheeltec/client/connection.hpp"
 #include "wheeltec/client/driver.hpp"
 #include "wheeltec/client/records.hpp"
+#include "wheeltec/client/subscription.hpp"
 
 namespace wheeltec::client {
 
