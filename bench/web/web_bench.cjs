@@ -13,10 +13,10 @@
 // Prints a table and, last, one JSON line with every figure.
 'use strict';
 const fs = require('fs');
-const http = require('http');
 const net = require('net');
 const WebSocket = require('ws');
 const { FoxgloveClient } = require('@foxglove/ws-protocol');
+const { openPage } = require('../../tests/web/clients/devtools.cjs');
 
 const options = { viewers: 8, seconds: 20 };
 for (let i = 2; i < process.argv.length; i += 2) options[process.argv[i].replace(/^--/, '').replace(/-./g, (m) => m[1].toUpperCase())] = process.argv[i + 1];
@@ -85,16 +85,6 @@ function memoryKiB(pid) {
   return { rss_kib: read('VmRSS'), peak_rss_kib: read('VmHWM') };
 }
 
-function getJson(port, path) {
-  return new Promise((resolve, reject) => {
-    http.get({ host: '127.0.0.1', port: Number(port), path }, (response) => {
-      let body = '';
-      response.on('data', (chunk) => (body += chunk));
-      response.on('end', () => { try { resolve(JSON.parse(body)); } catch (error) { reject(error); } });
-    }).on('error', reject);
-  });
-}
-
 // The page's own latency: a script that Chromium runs before the page's own wraps WebSocket
 // and times each telemetry message as the page receives it.
 const pageProbe = `(() => {
@@ -124,26 +114,9 @@ const pageProbe = `(() => {
 })();`;
 
 async function browserLatencies(port, pageUrl, daemonLatencies) {
-  let target = null;
-  for (let i = 0; i < 300 && !target; ++i) {
-    try { target = (await getJson(port, '/json/list')).find((t) => t.type === 'page'); } catch (error) { /* starting */ }
-    if (!target) await sleep(200);
-  }
-  if (!target) fail('no page target in Chromium');
-  const ws = new WebSocket(target.webSocketDebuggerUrl, { perMessageDeflate: false });
-  await new Promise((resolve, reject) => { ws.on('open', resolve); ws.on('error', reject); });
-  let nextId = 1;
-  const pending = new Map();
-  ws.on('message', (data) => {
-    const message = JSON.parse(data);
-    if (message.id && pending.has(message.id)) { pending.get(message.id)(message); pending.delete(message.id); }
-  });
-  const call = (method, params = {}) => new Promise((resolve) => {
-    const id = nextId++;
-    pending.set(id, resolve);
-    ws.send(JSON.stringify({ id, method, params }));
-  });
-  const evaluate = async (expression) => (await call('Runtime.evaluate', { expression, returnByValue: true })).result.result.value;
+  const devtools = await openPage(port, 300);
+  if (!devtools) fail('no page target in Chromium');
+  const { call, evaluate } = devtools;
   await call('Page.enable');
   await call('Page.addScriptToEvaluateOnNewDocument', { source: pageProbe });
   await call('Page.navigate', { url: pageUrl });
@@ -157,7 +130,7 @@ async function browserLatencies(port, pageUrl, daemonLatencies) {
   await sleep(seconds * 1000);
   daemonLatencies.recording = false;
   const values = await evaluate('window.__benchRecording = false, window.__benchLatencies');
-  ws.close();
+  devtools.close();
   const page = new Latencies();
   page.values = values || [];
   return page;

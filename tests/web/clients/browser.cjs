@@ -5,52 +5,17 @@
 // Prints JSON lines: {"event":"live",...}, {"event":"driving"}, {"event":"closed"}; exit 0 on success.
 'use strict';
 const fs = require('fs');
-const http = require('http');
-const WebSocket = require('ws');
+const { openPage, sleep } = require('./devtools.cjs');
 
 const [port, screenshot, holdMs] = process.argv.slice(2);
-const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 const say = (object) => console.log(JSON.stringify(object));
 function fail(why) { say({ event: 'failed', why }); process.exit(1); }
 setTimeout(() => fail('timed out'), 100000).unref();  // Chromium in User-Mode Linux beside a CI run is slow
 
-function getJson(path) {
-  return new Promise((resolve, reject) => {
-    http.get({ host: '127.0.0.1', port: Number(port), path }, (response) => {
-      let body = '';
-      response.on('data', (chunk) => (body += chunk));
-      response.on('end', () => { try { resolve(JSON.parse(body)); } catch (error) { reject(error); } });
-    }).on('error', reject);
-  });
-}
-
-async function pageTarget() {
-  for (let i = 0; i < 150; ++i) {
-    try {
-      const page = (await getJson('/json/list')).find((target) => target.type === 'page');
-      if (page) return page;
-    } catch (error) { /* not up yet */ }
-    await sleep(200);
-  }
-  fail('no page target in chromium');
-}
-
 async function main() {
-  const target = await pageTarget();
-  const ws = new WebSocket(target.webSocketDebuggerUrl, { perMessageDeflate: false });
-  await new Promise((resolve, reject) => { ws.on('open', resolve); ws.on('error', reject); });
-  let nextId = 1;
-  const pending = new Map();
-  ws.on('message', (data) => {
-    const message = JSON.parse(data);
-    if (message.id && pending.has(message.id)) { pending.get(message.id)(message); pending.delete(message.id); }
-  });
-  const call = (method, params = {}) => new Promise((resolve) => {
-    const id = nextId++;
-    pending.set(id, resolve);
-    ws.send(JSON.stringify({ id, method, params }));
-  });
-  const evaluate = async (expression) => (await call('Runtime.evaluate', { expression, returnByValue: true })).result.result.value;
+  const page = await openPage(port, 150);
+  if (!page) fail('no page target in chromium');
+  const { call, evaluate } = page;
 
   const readDom = `(() => { const t = (id) => document.getElementById(id).textContent;
     return { live: document.body.dataset.live === 'true', records: Number(document.body.dataset.records || 0), seq: Number(t('seq')), bus: t('bus-state'),
