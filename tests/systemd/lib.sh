@@ -123,6 +123,19 @@ bus_start() {
   # recorded, so each poll sends a new one.
   wait_for 5 bus_records_new_mark || { fail "candump does not record $IFACE"; return 1; }
 }
+# start_ready_chassis: the bus recorded, wheeltec-emu on $IFACE (pid in $emulator_pid, log in
+# $work/emu.log), $UNIT started, and its status saying the chassis is online and ready.
+chassis_ready() {
+  wheeltecctl --json status 2>/dev/null | json_is '.chassis.online and .chassis.phase == "ready"'
+}
+start_ready_chassis() {
+  bus_start
+  wheeltec-emu --interface "$IFACE" --boot-delay 0 --no-self-test >"$work/emu.log" 2>&1 &
+  emulator_pid=$!
+  systemctl start "$UNIT"
+  check "systemctl start $UNIT" is_active
+  check "the chassis (wheeltec-emu) is online and ready" wait_for 10 chassis_ready
+}
 bus_records_new_mark() {
   local mark
   mark=$(bus_mark)

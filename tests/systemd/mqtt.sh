@@ -33,16 +33,8 @@ broker_answers() { mosquitto_sub -p "$PORT" -t '$SYS/broker/version' -C 1 -W 1 >
 published() { grep -q "$1" "$mqtt_log"; }  # REGEX: a message under $TOPICS ("TOPIC PAYLOAD")
 # retained TOPIC: the payload a new subscriber gets at once.
 retained() { mosquitto_sub -p "$PORT" -t "$1" -C 1 -W 3 2>/dev/null; }
-chassis_ready() {
-  wheeltecctl --json status 2>/dev/null | json_is '.chassis.online and .chassis.phase == "ready"'
-}
 
-bus_start
-wheeltec-emu --interface "$IFACE" --boot-delay 0 --no-self-test >"$work/emu.log" 2>&1 &
-emulator_pid=$!
-systemctl start "$UNIT"
-check "systemctl start $UNIT" is_active
-check "the chassis (wheeltec-emu) is online and ready" wait_for 10 chassis_ready
+start_ready_chassis
 
 note "a broker on 127.0.0.1:$PORT (Debian's mosquitto)"
 printf 'listener %d 127.0.0.1\nallow_anonymous true\npersistence false\n' "$PORT" >"$work/mosquitto.conf"

@@ -27,19 +27,11 @@ view_active() { [[ $(systemctl is-active "$VIEW") == active ]]; }
 view_inactive() { [[ $(systemctl is-active "$VIEW") != active ]]; }
 http_status() { curl -s -o /dev/null -w '%{http_code}' --max-time 5 "$@"; }
 serves() { [[ $(http_status "$URL/api/status") == 200 ]]; }
-chassis_ready() {
-  wheeltecctl --json status 2>/dev/null | json_is '.chassis.online and .chassis.phase == "ready"'
-}
 foxglove_client() {  # MODE [TOKEN]: tests/web/clients/foxglove_client.cjs, npm's Foxglove client
   NODE_PATH=$WHEELTEC_WEB_NODE_MODULES node "$WHEELTEC_WEB_CLIENTS/foxglove_client.cjs" "$1" ws://127.0.0.1:8080 "${@:2}"
 }
 
-bus_start
-wheeltec-emu --interface "$IFACE" --boot-delay 0 --no-self-test >"$work/emu.log" 2>&1 &
-emulator_pid=$!
-systemctl start "$UNIT"
-check "systemctl start $UNIT" is_active
-check "the chassis (wheeltec-emu) is online and ready" wait_for 10 chassis_ready
+start_ready_chassis
 
 note "installed disabled; the token and the config as the unit says, then enable --now"
 check "$VIEW.service is installed disabled" test "$(systemctl is-enabled "$VIEW")" = disabled
