@@ -15,7 +15,8 @@
 
 #include "api_counters.hpp"
 #include "can_link.hpp"
-#include "chassis_monitor.hpp"
+#include "can_chassis_link.hpp"
+#include "wheeltec/telemetry_decoder.hpp"
 #include "client_state.hpp"
 #include "control_io.hpp"
 #include "control_loop.hpp"
@@ -57,14 +58,16 @@ void BM_StatusRequestThroughRpcHandler(benchmark::State& state) {
   boost::asio::io_context io;
   GatewayConfig config;
   config.can.interface = "bench-none";
-  daemon::CanLink link(io, config.can.interface);
-  daemon::ChassisMonitor chassis(io, std::chrono::milliseconds(500), config.telemetry.low_battery_v);
-  daemon::ControlIo control_io(io, link, config.control.rate_hz);
-  daemon::ControlLoop control(control_io.ports(), config);
+  daemon::CanChassisLink link(io, config);
+  TelemetryDecoder telemetry(config.telemetry.low_battery_v);
+  ChassisSupervisor supervisor(daemon::supervisor_settings(config));
+  daemon::ControlIo control_io(io, link, config);
+  daemon::ControlLoop control(control_io.ports(), supervisor, config);
   daemon::ApiCounters counters;
-  const daemon::StatusIdentity identity{config.can.interface, config.chassis.type, config.can.dialect};
+  const daemon::StatusIdentity identity{config.transport, config.can.interface, config.chassis.type,
+                                        config.can.dialect};
   daemon::RpcHandler handler(
-      control, chassis, config.chassis.type, counters,
+      control, telemetry, config.chassis.type, config.transport, counters,
       [&] { return daemon::status_to_json(identity, daemon::StatusFields{}, 12.3, std::nullopt); },
       [] { return json::object(); });
   daemon::ClientState client;

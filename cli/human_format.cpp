@@ -131,7 +131,10 @@ std::string format_status(const Json& status) {
   text += fmt::format("daemon:   wheeltecd {}, up {}\n", string_text(member_or_null(status, "version")),
                       uptime.is_number() ? fmt::format("{:.1f} s", uptime.get<double>())
                                          : std::string(kUnknown));
-  text += fmt::format("bus:      {} {}\n", string_text(member_or_null(bus, "interface")),
+  // The serial link says so; a CAN interface's name says it by itself (and protocol 2 had no transport).
+  const Json& transport = member_or_null(bus, "transport");
+  const bool serial = transport.is_string() && transport.get_ref<const std::string&>() == "serial";
+  text += fmt::format("bus:      {}{} {}\n", serial ? "serial " : "", string_text(member_or_null(bus, "interface")),
                       string_text(member_or_null(bus, "state")));
   text += fmt::format("chassis:  {}\n", chassis_text(chassis));
   text += fmt::format("battery:  {}\n", battery_text(chassis));

@@ -5,6 +5,7 @@ include(GNUInstallDirs)
 
 set(WHEELTEC_SYSTEMD_UNIT_DIR "lib/systemd/system" CACHE STRING "systemd unit directory, relative to the prefix")
 set(WHEELTEC_NETWORKD_DIR "lib/systemd/network" CACHE STRING "systemd-networkd directory, relative to the prefix")
+set(WHEELTEC_UDEV_RULES_DIR "lib/udev/rules.d" CACHE STRING "udev rules directory, relative to the prefix")
 set(WHEELTEC_DOC_DIR "${CMAKE_INSTALL_DATADIR}/doc/wheeltec-gateway")
 
 install(FILES systemd/wheeltecd.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
@@ -15,6 +16,9 @@ if(TARGET wheeltec-web)
   install(FILES systemd/wheeltec-web.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
 endif()
 install(FILES systemd/80-wheeltec-can.network DESTINATION ${WHEELTEC_NETWORKD_DIR})
+# The serial link: names the controller's USB cable /dev/wheeltec_controller for the group
+# wheeltec (/usr/lib/udev/rules.d/ in the package; udev reads /usr/local/lib/udev/rules.d/ too).
+install(FILES systemd/60-wheeltec-controller.rules DESTINATION ${WHEELTEC_UDEV_RULES_DIR})
 # Absolute: the unit and the daemon's default look for /etc/wheeltecd/wheeltecd.json.
 set(WHEELTEC_CONFIG_DIR "/etc/wheeltecd" CACHE PATH "directory of wheeltecd.json")
 # The installed configuration is config/wheeltecd.json (every key at its built-in default)
@@ -65,12 +69,14 @@ set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME wheeltec-gateway)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_CONTACT "wheeltec-gateway developers <dev@wheeltec-gateway.invalid>")
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "WHEELTEC robot chassis gateway (SocketCAN to JSON-RPC)")
-set(CPACK_PACKAGE_DESCRIPTION "wheeltecd drives a WHEELTEC robot chassis over SocketCAN and serves
-JSON-RPC 2.0 to local clients over a Unix socket, with a systemd service that
-runs it as the unprivileged user wheeltec. wheeltecctl reads status and
-telemetry and drives the robot from the command line; wheeltec-emu emulates
-the chassis controller on a virtual CAN interface; wheeltec-mqtt bridges the
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "WHEELTEC robot chassis gateway (CAN or serial to JSON-RPC)")
+set(CPACK_PACKAGE_DESCRIPTION "wheeltecd drives a WHEELTEC robot chassis over SocketCAN or the
+controller's USB serial cable and serves JSON-RPC 2.0 to local clients over a
+Unix socket, with a systemd service that runs it as the unprivileged user
+wheeltec and a udev rule that names the vendor's serial cable
+/dev/wheeltec_controller. wheeltecctl reads status and telemetry and drives
+the robot from the command line; wheeltec-emu emulates the chassis controller
+on a virtual CAN interface or a pseudo-terminal; wheeltec-mqtt bridges the
 robot to an MQTT broker for a fleet; wheeltec-web serves a live view (plots,
 odometry, joystick) to browsers and to Foxglove (both services are installed
 disabled).")

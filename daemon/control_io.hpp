@@ -5,37 +5,31 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 
-#include "can_link.hpp"
+#include "wheeltec/config.hpp"
+
+#include "chassis_link.hpp"
 #include "control_ports.hpp"
 #include "periodic_timer.hpp"
 #include "stall_sentinel.hpp"
 
 namespace wheeltec::daemon {
 
-// The daemon's ControlPorts: the steady clock, the CAN link, a timerfd tick, two Asio
+// The daemon's ControlPorts: the steady clock, the chassis link, a timerfd tick, three Asio
 // timers and the stall sentinel, retimed when the control rate changes.
 class ControlIo {
  public:
-  ControlIo(boost::asio::io_context& io, CanLink& link, double rate_hz);
+  ControlIo(boost::asio::io_context& io, ChassisLink& link, const GatewayConfig& config);
 
   ControlPorts ports() {
-    return {clock_, bus_, period_timer_, enable_timer_, deadman_timer_, stall_guard_};
+    return {clock_, link_, period_timer_, enable_timer_, deadman_timer_, offline_timer_, stall_guard_};
   }
+  // Serial: the port's descriptor for the sentinel (-1: closed).
+  void use_port(int fd) { stall_guard_.use_port(fd); }
 
  private:
   class SteadyClock : public MonotonicClock {
    public:
     MonotonicNanos now() const override { return std::chrono::steady_clock::now(); }
-  };
-
-  class LinkSink : public FrameSink {
-   public:
-    explicit LinkSink(CanLink& link) : link_(link) {}
-    bool bus_down() const override { return link_.state() == BusState::down; }
-    bool send(const CanFrame& frame) override { return link_.send(frame); }
-
-   private:
-    CanLink& link_;
   };
 
   class AsioTimer : public OneShotTimer {
@@ -53,22 +47,24 @@ class ControlIo {
 
   class SentinelGuard : public StallGuard {
    public:
-    SentinelGuard(const std::string& interface, double rate_hz)
-        : sentinel_(interface, StallSentinel::timing_for_rate(rate_hz)) {}
+    SentinelGuard(StallSentinel::ZeroOutput output, double rate_hz)
+        : sentinel_(std::move(output), StallSentinel::timing_for_rate(rate_hz)) {}
     void start() override { sentinel_.start(); }
-    void beat(std::uint32_t zero_frame_id) override { sentinel_.beat(zero_frame_id); }
+    void beat() override { sentinel_.beat(); }
     void disarm() override { sentinel_.disarm(); }
     void set_rate(double rate_hz) override { sentinel_.retime(StallSentinel::timing_for_rate(rate_hz)); }
+    void use_port(int fd) { sentinel_.use_port(fd); }
 
    private:
     StallSentinel sentinel_;
   };
 
   SteadyClock clock_;
-  LinkSink bus_;
+  ChassisLink& link_;
   PeriodicTimer period_timer_;
   AsioTimer enable_timer_;
   AsioTimer deadman_timer_;
+  AsioTimer offline_timer_;
   SentinelGuard stall_guard_;
 };
 

@@ -1,14 +1,12 @@
 #include "control_loop.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
-#include <type_traits>
 
 #include <spdlog/spdlog.h>
 
-#include "wheeltec/kinematics.hpp"
 #include "wheeltec/seconds.hpp"
+
+#include "supervisor_log.hpp"
 
 namespace wheeltec::daemon {
 
@@ -19,214 +17,194 @@ std::chrono::nanoseconds timer_interval(double seconds) {
   return std::max<std::chrono::nanoseconds>(from_seconds<std::chrono::nanoseconds>(seconds), std::chrono::milliseconds(1));
 }
 
-bool same_velocity(const ControlCommand& a, const ControlCommand& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
-
 }  // namespace
 
-ControlLoop::ControlLoop(const ControlPorts& ports, const GatewayConfig& config)
-    : ports_(ports), config_(config), arbiter_(timer_interval(config.control.command_timeout_s)) {
+SupervisorSettings supervisor_settings(const GatewayConfig& config) {
+  SupervisorSettings settings;
+  settings.command_timeout = timer_interval(config.control.command_timeout_s);
+  settings.telemetry_timeout = from_seconds<std::chrono::nanoseconds>(config.telemetry.timeout_s);
+  settings.limits = config.control.limits;
+  return settings;
+}
+
+ControlLoop::ControlLoop(const ControlPorts& ports, ChassisSupervisor& supervisor, const GatewayConfig& config)
+    : ports_(ports), supervisor_(supervisor), config_(config) {
   ports_.period_timer.on_tick([this] { on_period(); });
 }
 
-Velocity ControlLoop::target() const { return command_velocity(command_); }
-
-ControlCommand ControlLoop::frame_command(const ControlCommand& command) const {
-  if (config_.chassis.type != ChassisType::ackermann || config_.chassis.ackermann_z != AckermannZ::steering_angle) {
-    return command;
-  }
-  const Velocity velocity = command_velocity(command);
-  const double angle = ackermann_steering_angle(velocity.vx, velocity.wz, default_geometry(ChassisType::ackermann));
-  ControlCommand steering = command;
-  const double units = std::isfinite(angle) ? std::round(1000.0 * angle) : 0.0;
-  steering.z = static_cast<std::int16_t>(std::clamp<double>(units, std::numeric_limits<std::int16_t>::min(),
-                                                            std::numeric_limits<std::int16_t>::max()));
-  return steering;
+void ControlLoop::changed() {
+  const Observed now = observed();
+  if (now == reported_) return;
+  reported_ = now;
+  if (change_handler_) change_handler_();
 }
 
-bool ControlLoop::update_command() {
-  command_ = quantize_command(arbiter_.target(), config_.control.limits);
-  const ControlCommand next = frame_command(command_);
-  const bool changed = !same_velocity(next, sent_command_);
-  sent_command_ = next;
-  return changed;
-}
-
-void ControlLoop::send_control() {
-  if (ports_.bus.bus_down()) return;  // nothing to send to; link_came_up() catches up
-  if (ports_.bus.send(encode_control_frame(config_.can.dialect, sent_command_))) zero_pending_ = false;
+void ControlLoop::send_command() {
+  if (supervisor_.link() == LinkState::down) return;  // nothing to send to; link_changed() catches up
+  if (ports_.link.send_command(supervisor_.command())) supervisor_.first_zero_sent();
 }
 
 void ControlLoop::send_enable(bool enable) {
-  if (config_.can.dialect != Dialect::manual || ports_.bus.bus_down()) return;
-  ports_.bus.send(encode_enable_frame(enable));
-}
-
-ControlLoop::Observed ControlLoop::observed() const { return {enabled_, arbiter_.owner(), command_}; }
-
-template <class Change>
-auto ControlLoop::notifying(Change&& change) {
-  const Observed before = observed();
-  const auto notify_if_changed = [&] {
-    const Observed after = observed();
-    if (before.enabled == after.enabled && before.owner == after.owner &&
-        same_velocity(before.command, after.command)) {
-      return;
-    }
-    if (change_handler_) change_handler_();
-  };
-  if constexpr (std::is_void_v<std::invoke_result_t<Change>>) {
-    change();
-    notify_if_changed();
-  } else {
-    auto result = change();
-    notify_if_changed();
-    return result;
-  }
+  if (supervisor_.link() == LinkState::down) return;
+  ports_.link.send_enable(enable);
 }
 
 void ControlLoop::start() {
-  if (started_ || shut_down_) return;
-  started_ = true;
+  if (!supervisor_.start()) return;
   // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
-  send_control();
+  send_command();
   ports_.stall_guard.start();
   if (config_.control.auto_enable) enable();
 }
 
 DriveResult ControlLoop::drive(ClientId client, const Velocity& target) {
   DriveResult result;
-  if (ports_.bus.bus_down()) {
-    result.outcome = DriveOutcome::bus_down;
-    return result;
-  }
-  if (!enabled_) {
-    result.outcome = DriveOutcome::control_disabled;
-    return result;
-  }
-  return notifying([&] {
-    if (!arbiter_.try_drive(client, target, ports_.clock.now())) {
-      result.outcome = DriveOutcome::control_held;
-      return result;
-    }
-    if (update_command()) send_control();  // the periodic schedule carries on unchanged
-    arm_deadman();
-    result.sent = command_velocity(command_);
-    result.clamped = command_.clamped;
-    return result;
-  });
+  result.decision = supervisor_.drive(client, target, ports_.clock.now());
+  if (result.decision.refusal) return result;
+  if (result.decision.command_changed) send_command();  // the periodic schedule carries on unchanged
+  arm_deadman();
+  result.sent = supervisor_.target();
+  result.clamped = supervisor_.command().clamped;
+  changed();
+  return result;
 }
 
 void ControlLoop::stop() {
-  notifying([&] {
-    arbiter_.stop();
-    cancel_deadman();
-    update_command();
-    send_control();  // always, even when the target already was zero
-  });
+  supervisor_.stop();
+  cancel_deadman();
+  send_command();  // always, even when the target already was zero
+  changed();
 }
 
 void ControlLoop::enable() {
-  if (shut_down_) return;
-  if (enabled_) {
+  if (supervisor_.enabled()) {
     send_enable(true);
     return;
   }
-  notifying([&] {
-    enabled_ = true;
-    spdlog::info("control enabled");
-    send_enable(true);
-    send_control();
-    start_periodic();
-    beat_stall_guard();
-    start_enable_refresh();
-  });
+  if (!supervisor_.enable()) return;
+  spdlog::info("control enabled");
+  send_enable(true);
+  send_command();
+  start_periodic();
+  ports_.stall_guard.beat();
+  start_enable_refresh();
+  changed();
 }
 
 void ControlLoop::disable() {
-  notifying([&] {
-    const bool was_enabled = enabled_;
-    arbiter_.stop();
-    cancel_deadman();
-    update_command();
-    send_control();
-    send_enable(false);
-    ports_.period_timer.stop();
-    ports_.stall_guard.disarm();
-    ports_.enable_timer.cancel();
-    enabled_ = false;
-    if (was_enabled) spdlog::info("control disabled");
-  });
+  const bool was_enabled = supervisor_.disable();
+  cancel_deadman();
+  send_command();
+  send_enable(false);
+  ports_.period_timer.stop();
+  ports_.stall_guard.disarm();
+  ports_.enable_timer.cancel();
+  if (was_enabled) spdlog::info("control disabled");
+  changed();
 }
 
 void ControlLoop::client_gone(ClientId client) {
-  notifying([&] {
-    if (!arbiter_.release(client)) return;
-    spdlog::info("client {} gone while holding control: zero velocity", client);
-    cancel_deadman();
-    update_command();
-    send_control();
-  });
+  if (!supervisor_.client_gone(client)) return;
+  spdlog::info("client {} gone while holding control: zero velocity", client);
+  cancel_deadman();
+  send_command();
+  changed();
 }
 
-void ControlLoop::chassis_came_online() {
-  if (enabled_) send_enable(true);
-}
-
-void ControlLoop::link_came_up() {
-  if (!started_ || shut_down_) return;
-  if (enabled_) {
-    send_enable(true);
-    send_control();
-  } else if (zero_pending_) {
-    send_control();
+void ControlLoop::link_changed(LinkState state) {
+  const LinkState before = supervisor_.link();
+  supervisor_.link_changed(state);
+  if (state == LinkState::up && before == LinkState::down) {
+    if (supervisor_.enabled()) {
+      send_enable(true);
+      send_command();
+    } else if (supervisor_.mode() == ControlMode::awaiting_first_zero) {
+      send_command();
+    }
   }
+  changed();
+  if (change_handler_) change_handler_();  // the link's state is in the status too
+}
+
+void ControlLoop::record(const PhaseInput& record) {
+  const RecordOutcome outcome = supervisor_.record(record, ports_.clock.now());
+  if (outcome.came_online && supervisor_.enabled()) send_enable(true);
+  if (outcome.stage_changed && outcome.stage) log_stage_change(outcome.previous_stage, *outcome.stage);
+  if (outcome.zeroed) {
+    if (outcome.control_released) {
+      spdlog::warn("chassis {}: target zeroed and control released", to_string(phase_of(*outcome.stage)));
+    }
+    cancel_deadman();
+    send_command();
+  }
+  log_command_response(outcome.response_before, outcome.response, config_);
+  if (!offline_expiry_) arm_offline_timer();
+  changed();
+}
+
+void ControlLoop::arm_offline_timer() {
+  const auto deadline = supervisor_.offline_deadline();
+  if (!deadline) return;
+  // Not moved on each record (a cancel and a re-arm cost the event loop system calls and an
+  // extra turn at telemetry rate): when it fires it re-arms for what is left.
+  offline_expiry_ = *deadline;
+  ports_.offline_timer.wait_until(*deadline, [this] {
+    offline_expiry_.reset();
+    if (!supervisor_.expire_online(ports_.clock.now())) {
+      arm_offline_timer();
+      return;
+    }
+    spdlog::debug("chassis offline: no telemetry record for {:g} s", config_.telemetry.timeout_s);
+    spdlog::info("chassis phase unknown: offline");
+    if (change_handler_) change_handler_();
+  });
 }
 
 void ControlLoop::shutdown() {
   ports_.period_timer.stop();
   ports_.stall_guard.disarm();
   ports_.enable_timer.cancel();
+  ports_.offline_timer.cancel();
+  offline_expiry_.reset();
   cancel_deadman();
-  arbiter_.stop();
-  update_command();
-  send_control();
+  supervisor_.shut_down();
+  send_command();
   if (config_.control.disable_on_exit) send_enable(false);
-  enabled_ = false;
-  shut_down_ = true;
 }
 
 void ControlLoop::apply(const GatewayConfig& config) {
-  notifying([&] {
-    const bool dialect_changed = config.can.dialect != config_.can.dialect;
-    const bool period_changed = config.control.rate_hz != config_.control.rate_hz;
-    const bool refresh_changed = config.control.enable_refresh_s != config_.control.enable_refresh_s;
-    config_ = config;
-    arbiter_.set_command_timeout(timer_interval(config_.control.command_timeout_s));
-    // New limits or Z mode apply to the current target at once.
-    if (update_command() && enabled_) send_control();
-    if (period_changed) ports_.stall_guard.set_rate(config_.control.rate_hz);
-    if (enabled_ && period_changed) start_periodic();
-    if (enabled_ && (refresh_changed || dialect_changed)) start_enable_refresh();
-  });
+  const bool period_changed = config.control.rate_hz != config_.control.rate_hz;
+  const bool refresh_changed = config.control.enable_refresh_s != config_.control.enable_refresh_s;
+  const bool timeout_changed = config.telemetry.timeout_s != config_.telemetry.timeout_s;
+  config_ = config;
+  const ControlCommand before = supervisor_.command();
+  supervisor_.apply(supervisor_settings(config_));
+  // New limits apply to the current target at once.
+  if (!(supervisor_.command() == before) && supervisor_.enabled()) send_command();
+  if (period_changed) ports_.stall_guard.set_rate(config_.control.rate_hz);
+  if (supervisor_.enabled() && period_changed) start_periodic();
+  if (supervisor_.enabled() && refresh_changed) start_enable_refresh();
+  if (timeout_changed && offline_expiry_) {
+    ports_.offline_timer.cancel();
+    offline_expiry_.reset();
+    arm_offline_timer();
+  }
+  changed();
 }
 
 void ControlLoop::start_periodic() { ports_.period_timer.start(timer_interval(1.0 / config_.control.rate_hz)); }
 
 void ControlLoop::on_period() {
-  if (!enabled_ || shut_down_) return;
+  if (!supervisor_.enabled()) return;
   // When the loop runs late, this tick and the deadman's wait can complete in the same turn,
   // this one first: a lapsed target must not go out in a periodic frame. Without an owner
   // there is no deadline, and no need to read the clock.
-  if (!arbiter_.deadline() || !release_if_lapsed()) send_control();
-  beat_stall_guard();
-}
-
-void ControlLoop::beat_stall_guard() {
-  ports_.stall_guard.beat(encode_control_frame(config_.can.dialect, ControlCommand{}).id);
+  if (!supervisor_.deadman_deadline() || !release_if_lapsed()) send_command();
+  ports_.stall_guard.beat();
 }
 
 void ControlLoop::start_enable_refresh() {
-  if (config_.can.dialect != Dialect::manual) {
+  if (!ports_.link.refreshes_enable()) {
     ports_.enable_timer.cancel();
     return;
   }
@@ -237,7 +215,7 @@ void ControlLoop::start_enable_refresh() {
 
 void ControlLoop::arm_enable_timer() {
   ports_.enable_timer.wait_until(next_enable_, [this] {
-    if (!enabled_ || shut_down_ || config_.can.dialect != Dialect::manual) return;
+    if (!supervisor_.enabled()) return;
     send_enable(true);
     const auto current = ports_.clock.now();
     next_enable_ += enable_refresh_;
@@ -252,7 +230,7 @@ void ControlLoop::cancel_deadman() {
 }
 
 void ControlLoop::arm_deadman() {
-  const auto deadline = arbiter_.deadline();
+  const auto deadline = supervisor_.deadman_deadline();
   if (!deadline) {
     cancel_deadman();
     return;
@@ -265,21 +243,19 @@ void ControlLoop::arm_deadman() {
   ports_.deadman_timer.wait_until(*deadline, [this] {
     deadman_expiry_.reset();
     // Not lapsed: a drive moved the deadline since the wait was armed.
-    if (!release_if_lapsed() && arbiter_.deadline()) arm_deadman();
+    if (!release_if_lapsed() && supervisor_.deadman_deadline()) arm_deadman();
   });
 }
 
 bool ControlLoop::release_if_lapsed() {
-  return notifying([&] {
-    const auto owner = arbiter_.owner();
-    if (!arbiter_.expire(ports_.clock.now())) return false;
-    spdlog::info("client {} stopped driving for {:g} s: zero velocity, control released", owner.value_or(0),
-                 config_.control.command_timeout_s);
-    cancel_deadman();
-    update_command();
-    send_control();
-    return true;
-  });
+  const auto owner = supervisor_.owner();
+  if (!supervisor_.expire_deadman(ports_.clock.now())) return false;
+  spdlog::info("client {} stopped driving for {:g} s: zero velocity, control released", owner.value_or(0),
+               config_.control.command_timeout_s);
+  cancel_deadman();
+  send_command();
+  changed();
+  return true;
 }
 
 }  // namespace wheeltec::daemon

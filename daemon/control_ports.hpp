@@ -4,14 +4,14 @@
 #include <cstdint>
 #include <functional>
 
-#include "wheeltec/can_frame.hpp"
 #include "wheeltec/clocks.hpp"
+#include "wheeltec/control_frame.hpp"
 
 namespace wheeltec::daemon {
 
 // What the control loop acts on and reads, as interfaces: the daemon passes thin adapters
-// over the steady clock, the CAN link, its timers and the stall sentinel (ControlIo);
-// unit tests pass a simulated clock and bus.
+// over the steady clock, the chassis link, its timers and the stall sentinel (ControlIo);
+// unit tests pass a simulated clock and link.
 
 class MonotonicClock {
  public:
@@ -19,12 +19,16 @@ class MonotonicClock {
   virtual MonotonicNanos now() const = 0;
 };
 
-class FrameSink {
+// Where commands go: the link, in its own frames.
+class CommandSink {
  public:
-  virtual ~FrameSink() = default;
-  virtual bool bus_down() const = 0;
-  // True if the frame reached the kernel.
-  virtual bool send(const CanFrame& frame) = 0;
+  virtual ~CommandSink() = default;
+  // The command frame, Z a yaw rate; true if the link took it.
+  virtual bool send_command(const ControlCommand& command) = 0;
+  // Control enabled or disabled (CAN manual dialect: the enable frame; elsewhere nothing).
+  virtual void send_enable(bool enable) = 0;
+  // Whether the enable frame must be repeated so that a rebooted controller resumes.
+  virtual bool refreshes_enable() const = 0;
 };
 
 // One wait at a time: a new wait or cancel() drops the one under way (its handler is not called).
@@ -51,17 +55,18 @@ class StallGuard {
  public:
   virtual ~StallGuard() = default;
   virtual void start() = 0;
-  virtual void beat(std::uint32_t zero_frame_id) = 0;  // a control period went out
+  virtual void beat() = 0;                             // a control period went out
   virtual void disarm() = 0;                           // nothing to guard
   virtual void set_rate(double rate_hz) = 0;           // the control periods' rate changed
 };
 
 struct ControlPorts {
   const MonotonicClock& clock;
-  FrameSink& bus;
+  CommandSink& link;
   TickSource& period_timer;
   OneShotTimer& enable_timer;
   OneShotTimer& deadman_timer;
+  OneShotTimer& offline_timer;
   StallGuard& stall_guard;
 };
 

@@ -14,16 +14,12 @@ MonotonicNanos steady_now() { return std::chrono::steady_clock::now(); }
 
 DockMonitor::DockMonitor(boost::asio::io_context& io) : expiry_timer_(io) {}
 
-bool DockMonitor::feed(const CanFrame& frame) {
-  if (frame.id != kDockReportId || frame.extended || frame.error) return false;
-  const auto report = decode_dock_report(frame);
-  if (!report) return true;
+void DockMonitor::heard(const ChargingDockState& report) {
   const bool was_present = presence_.report().has_value();
-  presence_.heard(*report, steady_now());
-  if (!was_present) spdlog::info("charging dock heard on the bus (0x182): {}charging", report->charging ? "" : "not ");
+  presence_.heard(report, steady_now());
+  if (!was_present) spdlog::info("charging dock heard: {}charging", report.charging ? "" : "not ");
   if (!expiry_timer_armed_) arm_expiry_timer();
   if (change_handler_) change_handler_();
-  return true;
 }
 
 // Not moved on each report: when it fires it re-arms for what is left of the newest one's timeout.

@@ -6,13 +6,12 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 
-#include "wheeltec/can_frame.hpp"
 #include "wheeltec/dock_report.hpp"
 
 namespace wheeltec::daemon {
 
-// The auto-recharge dock's reports (0x182) and whether the dock is present: heard within
-// DockPresence's timeout, by the steady clock.
+// The auto-recharge dock's reports (CAN 0x182, or the serial line's charge frames) and
+// whether the dock is present: heard within DockPresence's timeout, by the steady clock.
 class DockMonitor {
  public:
   using ChangeHandler = std::function<void()>;  // a report came, or the dock is gone
@@ -21,9 +20,7 @@ class DockMonitor {
 
   void on_change(ChangeHandler handler) { change_handler_ = std::move(handler); }
 
-  // True if the frame is on the dock's ID (standard 0x182): it is the dock's, whether or
-  // not it is a well-formed report, and must not reach telemetry reassembly.
-  bool feed(const CanFrame& frame);
+  void heard(const ChargingDockState& report);
 
   const std::optional<ChargingDockState>& report() const { return presence_.report(); }
 

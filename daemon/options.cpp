@@ -20,6 +20,10 @@ namespace {
 nlohmann::json flags_as_config(const Options& options) {
   nlohmann::json document = nlohmann::json::object();
   if (options.interface) document["can"]["interface"] = *options.interface;
+  if (options.serial) {
+    document["transport"] = "serial";
+    document["serial"]["device"] = *options.serial;
+  }
   if (options.dialect) document["can"]["dialect"] = *options.dialect;
   if (options.chassis) document["chassis"]["type"] = *options.chassis;
   if (options.socket) document["api"]["socket"] = *options.socket;
@@ -46,11 +50,16 @@ bool sets_key(const nlohmann::json& document, const std::string& key) {
 
 std::variant<Options, int> parse_command_line(int argc, char** argv) {
   Options options;
-  CLI::App app{"wheeltecd: WHEELTEC chassis gateway, SocketCAN to JSON-RPC over a Unix socket", "wheeltecd"};
+  CLI::App app{"wheeltecd: WHEELTEC chassis gateway, SocketCAN or a serial line to JSON-RPC over a Unix socket", "wheeltecd"};
   command_line::add_version_flag(app);
   app.add_option("--config", options.config_file, fmt::format("Config file (JSON); default {} if it exists", kDefaultConfigFile))
       ->type_name("FILE");
-  app.add_option("--interface", options.interface, "CAN interface, overrides can.interface")->type_name("IFACE");
+  CLI::Option* interface =
+      app.add_option("--interface", options.interface, "CAN interface, overrides can.interface")->type_name("IFACE");
+  app.add_option("--serial", options.serial,
+                 "Serial device of the controller: transport serial on DEVICE (overrides transport and serial.device)")
+      ->type_name("DEVICE")
+      ->excludes(interface);
   app.add_option("--socket", options.socket, "API socket path, overrides api.socket")->type_name("PATH");
   app.add_option("--chassis", options.chassis,
                  fmt::format("Chassis type ({}), overrides chassis.type", fmt::join(enum_names<ChassisType>(), ", ")))

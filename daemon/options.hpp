@@ -14,6 +14,7 @@ inline constexpr const char* kDefaultConfigFile = "/etc/wheeltecd/wheeltecd.json
 struct Options {
   std::optional<std::string> config_file;
   std::optional<std::string> interface;
+  std::optional<std::string> serial;  // --serial DEVICE: transport serial on DEVICE
   std::optional<std::string> socket;
   std::optional<std::string> chassis;
   std::optional<std::string> dialect;

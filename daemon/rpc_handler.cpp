@@ -35,11 +35,12 @@ json topics_of(const ClientState& client) {
 
 }  // namespace
 
-RpcHandler::RpcHandler(ControlLoop& control, ChassisMonitor& chassis, ChassisType chassis_type,
-                       ApiCounters& counters, JsonSource status, JsonSource stats)
+RpcHandler::RpcHandler(ControlLoop& control, TelemetryDecoder& telemetry, ChassisType chassis_type,
+                       Transport transport, ApiCounters& counters, JsonSource status, JsonSource stats)
     : control_(control),
-      chassis_(chassis),
+      telemetry_(telemetry),
       chassis_type_(chassis_type),
+      link_down_message_(transport == Transport::serial ? "the serial link is down" : "the CAN bus is down"),
       counters_(counters),
       status_(std::move(status)),
       stats_(std::move(stats)) {}
@@ -56,7 +57,7 @@ std::optional<std::string> RpcHandler::handle_line(ClientState& client, std::str
   const auto& request = std::get<rpc::Request>(parsed);
 
   // The latest record is serialised straight into the response, not through a json tree.
-  if (request.method == "telemetry" && !rpc::expect_no_params(request) && chassis_.latest()) {
+  if (request.method == "telemetry" && !rpc::expect_no_params(request) && telemetry_.latest()) {
     if (request.is_notification) return std::nullopt;
     return telemetry_response(request);
   }
@@ -92,7 +93,7 @@ RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request
     return json::object();
   }
   if (method == "reset_odometry") {
-    chassis_.reset_odometry();
+    telemetry_.reset_odometry();
     return json::object();
   }
   if (auto error = control_permission_error(client, request)) return *std::move(error);
@@ -108,27 +109,31 @@ RpcHandler::Outcome RpcHandler::drive(ClientState& client, const rpc::Request& r
   if (auto error = control_permission_error(client, request)) return *std::move(error);
   auto params = rpc::parse_drive_params(request, chassis_type_);
   if (auto* error = std::get_if<rpc::Error>(&params)) return std::move(*error);
-  if (const auto phase = chassis_.phase(); phase && !obeys_commands(*phase)) {
-    return rpc::Error{rpc::kChassisNotReady, std::string(not_ready_reason(*phase)), request.id,
-                      json{{"phase", to_string(*phase)}}};
-  }
 
   const DriveResult result = control_.drive(client.id, std::get<Velocity>(params));
-  switch (result.outcome) {
-    case DriveOutcome::accepted:
-      return json{{"vx", result.sent.vx}, {"vy", result.sent.vy}, {"wz", result.sent.wz}, {"clamped", result.clamped}};
-    case DriveOutcome::control_held: {
-      const auto owner = control_.owner();
+  if (result.decision.refusal) return drive_refusal(result.decision, request);
+  return json{{"vx", result.sent.vx}, {"vy", result.sent.vy}, {"wz", result.sent.wz}, {"clamped", result.clamped}};
+}
+
+rpc::Error RpcHandler::drive_refusal(const DriveDecision& decision, const rpc::Request& request) const {
+  switch (*decision.refusal) {
+    case DriveRefusal::chassis_not_ready: {
+      const ChassisPhase phase = decision.phase.value_or(ChassisPhase::halted);
+      return rpc::Error{rpc::kChassisNotReady, std::string(not_ready_reason(phase)), request.id,
+                        json{{"phase", to_string(phase)}}};
+    }
+    case DriveRefusal::control_held: {
+      const auto owner = decision.owner;
       return rpc::Error{rpc::kControlHeld,
                         owner ? fmt::format("control is held by client {}", *owner) : "control is held by another client",
                         request.id};
     }
-    case DriveOutcome::control_disabled:
+    case DriveRefusal::control_disabled:
       return rpc::Error{rpc::kControlDisabled, "control is disabled (send enable first)", request.id};
-    case DriveOutcome::bus_down:
-      return rpc::Error{rpc::kBusDown, "the CAN bus is down", request.id};
+    case DriveRefusal::link_down:
+      return rpc::Error{rpc::kBusDown, link_down_message_, request.id};
   }
-  return rpc::Error{rpc::kInternalError, "unexpected drive outcome", request.id};
+  return rpc::Error{rpc::kInternalError, "unexpected drive refusal", request.id};
 }
 
 RpcHandler::Outcome RpcHandler::set_subscriptions(ClientState& client, const rpc::Request& request, bool wanted) {
@@ -149,7 +154,7 @@ std::optional<rpc::Error> RpcHandler::control_permission_error(const ClientState
 
 std::string RpcHandler::telemetry_response(const rpc::Request& request) const {
   std::string out = R"({"jsonrpc":"2.0","result":)";
-  append_telemetry_json(out, *chassis_.latest());
+  append_telemetry_json(out, *telemetry_.latest());
   out += R"(,"id":)";
   out += request.id.dump(-1, ' ', false, json::error_handler_t::replace);
   out += "}\n";

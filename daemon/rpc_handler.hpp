@@ -11,8 +11,9 @@
 #include "wheeltec/rpc.hpp"
 #include "wheeltec/types.hpp"
 
+#include "wheeltec/telemetry_decoder.hpp"
+
 #include "api_counters.hpp"
-#include "chassis_monitor.hpp"
 #include "client_state.hpp"
 #include "control_loop.hpp"
 
@@ -23,8 +24,8 @@ class RpcHandler {
  public:
   using JsonSource = std::function<nlohmann::json()>;
 
-  RpcHandler(ControlLoop& control, ChassisMonitor& chassis, ChassisType chassis_type, ApiCounters& counters,
-             JsonSource status, JsonSource stats);
+  RpcHandler(ControlLoop& control, TelemetryDecoder& telemetry, ChassisType chassis_type, Transport transport,
+             ApiCounters& counters, JsonSource status, JsonSource stats);
 
   // The response line (with '\n') to a request line (without it); empty for an empty
   // line and for notifications, which are carried out but never answered.
@@ -38,10 +39,12 @@ class RpcHandler {
   Outcome set_subscriptions(ClientState& client, const rpc::Request& request, bool wanted);
   std::optional<rpc::Error> control_permission_error(const ClientState& client, const rpc::Request& request) const;
   std::string telemetry_response(const rpc::Request& request) const;
+  rpc::Error drive_refusal(const DriveDecision& decision, const rpc::Request& request) const;
 
   ControlLoop& control_;
-  ChassisMonitor& chassis_;
+  TelemetryDecoder& telemetry_;
   ChassisType chassis_type_;
+  std::string link_down_message_;
   ApiCounters& counters_;
   JsonSource status_;
   JsonSource stats_;

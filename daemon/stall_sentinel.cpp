@@ -3,6 +3,7 @@
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
+#include <poll.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
@@ -16,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <optional>
 #include <thread>
 
 #include <spdlog/spdlog.h>
@@ -33,20 +35,24 @@ constexpr auto kStallDelay = std::chrono::milliseconds(500);
 constexpr int kStallPeriods = 3;  // at low control rates: this many periods instead
 constexpr auto kPoll = std::chrono::milliseconds(100);
 
+// The fd the sentinel keeps its end of the port channel on, all others closed.
+constexpr int kChannelFd = 3;
+
 // The sentinel's CAN socket, opened when first needed and again after a failure (the
 // interface may have been re-created meanwhile).
-class ZeroFrameSender {
+class CanZeroSender {
  public:
-  explicit ZeroFrameSender(const std::string& interface) : interface_(interface) {}
-  ~ZeroFrameSender() { close(); }
+  explicit CanZeroSender(const StallSentinel::CanZero& zero) : interface_(zero.interface) {
+    std::memset(&frame_, 0, sizeof(frame_));
+    frame_.can_id = zero.frame.id;
+    frame_.can_dlc = zero.frame.dlc;
+    std::memcpy(frame_.data, zero.frame.data.data(), sizeof(frame_.data));
+  }
+  ~CanZeroSender() { close(); }
 
-  bool send(std::uint32_t id) {
+  bool send() {
     if (fd_ < 0 && !open()) return false;
-    can_frame frame;
-    std::memset(&frame, 0, sizeof(frame));
-    frame.can_id = id;
-    frame.can_dlc = 8;  // X, Y, Z zero and the two reserved bytes
-    if (::send(fd_, &frame, sizeof(frame), MSG_DONTWAIT) == static_cast<ssize_t>(sizeof(frame))) return true;
+    if (::send(fd_, &frame_, sizeof(frame_), MSG_DONTWAIT) == static_cast<ssize_t>(sizeof(frame_))) return true;
     close();
     return false;
   }
@@ -72,6 +78,49 @@ class ZeroFrameSender {
   }
 
   std::string interface_;
+  can_frame frame_;
+  int fd_ = -1;
+};
+
+// The serial port as the daemon last handed it over (none while it is closed).
+class SerialZeroSender {
+ public:
+  explicit SerialZeroSender(const StallSentinel::SerialZero& zero) : frame_(zero.frame) {}
+  ~SerialZeroSender() { drop_port(); }
+
+  // Takes what the daemon sent on the channel: a new port, or word that it closed.
+  void take_messages(int channel) {
+    for (;;) {
+      char tag = 0;
+      iovec data{&tag, 1};
+      alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))];
+      msghdr message{};
+      message.msg_iov = &data;
+      message.msg_iovlen = 1;
+      message.msg_control = control;
+      message.msg_controllen = sizeof(control);
+      const ssize_t n = ::recvmsg(channel, &message, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
+      if (n == 0) _exit(0);  // the daemon is gone
+      if (n < 0) return;
+      drop_port();
+      for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS) std::memcpy(&fd_, CMSG_DATA(c), sizeof(int));
+      }
+    }
+  }
+
+  bool send() {
+    if (fd_ < 0) return false;
+    return ::write(fd_, frame_.data(), frame_.size()) == static_cast<ssize_t>(frame_.size());
+  }
+
+ private:
+  void drop_port() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+
+  serial::CommandFrame frame_;
   int fd_ = -1;
 };
 
@@ -89,8 +138,7 @@ StallSentinel::Timing StallSentinel::timing_for_rate(double rate_hz) {
   return Timing{std::max<std::chrono::milliseconds>(kStallDelay, kStallPeriods * period), period, kPoll};
 }
 
-StallSentinel::StallSentinel(std::string interface, Timing timing)
-    : interface_(std::move(interface)), timing_(timing) {}
+StallSentinel::StallSentinel(ZeroOutput output, Timing timing) : output_(std::move(output)), timing_(timing) {}
 
 StallSentinel::~StallSentinel() {
   if (pid_ > 0) {
@@ -98,6 +146,29 @@ StallSentinel::~StallSentinel() {
     ::waitpid(pid_, nullptr, 0);
   }
   if (shared_) ::munmap(shared_, sizeof(Shared));
+  if (port_channel_ >= 0) ::close(port_channel_);
+}
+
+void StallSentinel::use_port(int fd) noexcept {
+  if (port_channel_ < 0) return;
+  char tag = fd >= 0 ? 'P' : 'C';
+  iovec data{&tag, 1};
+  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))];
+  msghdr message{};
+  message.msg_iov = &data;
+  message.msg_iovlen = 1;
+  if (fd >= 0) {
+    message.msg_control = control;
+    message.msg_controllen = sizeof(control);
+    cmsghdr* c = CMSG_FIRSTHDR(&message);
+    c->cmsg_level = SOL_SOCKET;
+    c->cmsg_type = SCM_RIGHTS;
+    c->cmsg_len = CMSG_LEN(sizeof(int));
+    std::memcpy(CMSG_DATA(c), &fd, sizeof(int));
+  }
+  if (::sendmsg(port_channel_, &message, MSG_DONTWAIT | MSG_NOSIGNAL) < 0) {
+    spdlog::warn("stall sentinel: cannot hand over the serial port: {}", std::strerror(errno));
+  }
 }
 
 bool StallSentinel::start() {
@@ -111,10 +182,19 @@ bool StallSentinel::start() {
   }
   shared_ = new (memory) Shared;
   retime(timing_);
+  int channel[2] = {-1, -1};
+  if (std::holds_alternative<SerialZero>(output_) &&
+      ::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, channel) != 0) {
+    spdlog::warn("stall sentinel: no channel for the serial port: {}; a hung daemon leaves the chassis at its "
+                 "last command until the watchdog restarts it",
+                 std::strerror(errno));
+  }
   const pid_t daemon = ::getpid();
   std::fflush(nullptr);
   pid_ = ::fork();
-  if (pid_ == 0) run(*shared_, interface_, timing_.poll, daemon);
+  if (pid_ == 0) run(*shared_, output_, channel[1], timing_.poll, daemon);
+  if (channel[1] >= 0) ::close(channel[1]);
+  port_channel_ = channel[0];
   if (pid_ < 0) {
     spdlog::warn("stall sentinel: cannot start: {}; a hung daemon leaves the chassis at its last command until "
                  "the watchdog restarts it",
@@ -135,27 +215,44 @@ void StallSentinel::retime(Timing timing) noexcept {
   shared_->repeat_ms.store(timing.repeat.count(), std::memory_order_relaxed);
 }
 
-void StallSentinel::run(Shared& shared, const std::string& interface, std::chrono::milliseconds poll, pid_t daemon) {
+void StallSentinel::run(Shared& shared, const ZeroOutput& output, int port_channel, std::chrono::milliseconds poll,
+                        pid_t daemon) {
   // Dies with the daemon; holds none of its sockets (a client's connection must close when
   // the daemon closes it) and none of its signal handlers.
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   if (::getppid() != daemon) _exit(0);
-  ::close_range(3, ~0U, 0);
+  int channel = -1;
+  if (port_channel >= 0) {
+    channel = port_channel == kChannelFd ? kChannelFd : ::dup2(port_channel, kChannelFd);
+  }
+  ::close_range(channel >= 0 ? kChannelFd + 1 : kChannelFd, ~0U, 0);
   for (const int signal_number : {SIGTERM, SIGINT, SIGHUP}) std::signal(signal_number, SIG_DFL);
   ::prctl(PR_SET_NAME, "wheeltecd-stall");
 
-  ZeroFrameSender sender(interface);
+  std::optional<CanZeroSender> can;
+  std::optional<SerialZeroSender> serial_port;
+  if (const auto* zero = std::get_if<CanZero>(&output)) can.emplace(*zero);
+  if (const auto* zero = std::get_if<SerialZero>(&output)) serial_port.emplace(*zero);
+  const auto wait = [&](std::chrono::milliseconds interval) {
+    if (channel < 0) {
+      std::this_thread::sleep_for(interval);
+      return;
+    }
+    pollfd readable{channel, POLLIN, 0};
+    if (::poll(&readable, 1, static_cast<int>(interval.count())) > 0) serial_port->take_messages(channel);
+  };
+  const auto send_zero = [&] { return can ? can->send() : serial_port->send(); };
   std::uint64_t seen = shared.beats.load(std::memory_order_acquire);
   auto moved = Clock::now();
   bool stalled = false;
   for (;;) {
     const std::chrono::milliseconds delay(shared.delay_ms.load(std::memory_order_relaxed));
     const std::chrono::milliseconds repeat(shared.repeat_ms.load(std::memory_order_relaxed));
-    std::this_thread::sleep_for(stalled ? repeat : poll);
+    wait(stalled ? repeat : poll);
     const auto now = Clock::now();
     const std::uint64_t beats = shared.beats.load(std::memory_order_acquire);
-    const std::uint32_t id = shared.zero_frame_id.load(std::memory_order_acquire);
-    if (beats != seen || id == 0) {
+    const bool armed = shared.armed.load(std::memory_order_acquire) != 0;
+    if (beats != seen || !armed) {
       if (stalled) report("control frames resumed");
       seen = beats;
       moved = now;
@@ -165,7 +262,7 @@ void StallSentinel::run(Shared& shared, const std::string& interface, std::chron
     if (now - moved < delay) continue;
     if (!stalled) report("the daemon sent no control frame for too long: sending zero velocity in its place");
     stalled = true;
-    sender.send(id);
+    send_zero();
   }
 }
 

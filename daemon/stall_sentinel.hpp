@@ -6,6 +6,10 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <variant>
+
+#include "wheeltec/can_frame.hpp"
+#include "wheeltec/serial_frame.hpp"
 
 namespace wheeltec::daemon {
 
@@ -17,8 +21,11 @@ namespace wheeltec::daemon {
 //
 // The daemon counts its control periods in memory shared with the sentinel (no system
 // call); the sentinel looks every `poll` and, once the count has not moved for `delay`
-// while armed, sends the zero frame on its own CAN socket every `repeat` until the count
-// moves again. It dies with the daemon (PR_SET_PDEATHSIG) and holds none of its files.
+// while armed, sends the zero frame every `repeat` until the count moves again: on CAN
+// through a socket of its own, on the serial line through the port's descriptor, which
+// the daemon hands over (SCM_RIGHTS) each time it opens the port; a write of 11 bytes to a
+// tty is not split by the daemon's own writes. It dies with the daemon (PR_SET_PDEATHSIG)
+// and holds none of its other files.
 class StallSentinel {
  public:
   struct Timing {
@@ -27,7 +34,17 @@ class StallSentinel {
     std::chrono::milliseconds poll;
   };
 
-  StallSentinel(std::string interface, Timing timing);
+  // What the sentinel sends in the daemon's place.
+  struct CanZero {
+    std::string interface;
+    CanFrame frame;
+  };
+  struct SerialZero {
+    serial::CommandFrame frame;
+  };
+  using ZeroOutput = std::variant<CanZero, SerialZero>;
+
+  StallSentinel(ZeroOutput output, Timing timing);
   ~StallSentinel();  // stops the sentinel process
   StallSentinel(const StallSentinel&) = delete;
   StallSentinel& operator=(const StallSentinel&) = delete;
@@ -35,17 +52,19 @@ class StallSentinel {
   // Forks the sentinel process; once. False (with a warning logged) if it cannot.
   bool start();
 
-  // A control period went out; `zero_frame_id` is the ID the zero frame must use (dialect).
-  void beat(std::uint32_t zero_frame_id) noexcept {
+  // A control period went out (and the sentinel is armed).
+  void beat() noexcept {
     if (!shared_) return;
-    shared_->zero_frame_id.store(zero_frame_id, std::memory_order_relaxed);
+    shared_->armed.store(1, std::memory_order_relaxed);
     shared_->beats.fetch_add(1, std::memory_order_release);
   }
+  // Serial: the port's descriptor, open and locked; -1 when the daemon closes it.
+  void use_port(int fd) noexcept;
   // The control rate changed: the sentinel's delay and repeat follow it.
   void retime(Timing timing) noexcept;
   // Nothing to guard (control disabled, daemon stopping): the sentinel stays quiet.
   void disarm() noexcept {
-    if (shared_) shared_->zero_frame_id.store(0, std::memory_order_release);
+    if (shared_) shared_->armed.store(0, std::memory_order_release);
   }
 
   // Also the sentinel's timing for `rate_hz` control frames per second.
@@ -54,16 +73,17 @@ class StallSentinel {
  private:
   struct Shared {
     std::atomic<std::uint64_t> beats{0};
-    std::atomic<std::uint32_t> zero_frame_id{0};  // 0: disarmed
+    std::atomic<std::uint32_t> armed{0};
     std::atomic<std::int64_t> delay_ms{0};
     std::atomic<std::int64_t> repeat_ms{0};
   };
   static_assert(std::atomic<std::uint64_t>::is_always_lock_free, "shared between processes");
 
-  [[noreturn]] static void run(Shared& shared, const std::string& interface, std::chrono::milliseconds poll,
-                               pid_t daemon);
+  [[noreturn]] static void run(Shared& shared, const ZeroOutput& output, int port_channel,
+                               std::chrono::milliseconds poll, pid_t daemon);
 
-  std::string interface_;
+  ZeroOutput output_;
+  int port_channel_ = -1;  // the daemon's end of the socket pair that carries the serial port
   Timing timing_;
   Shared* shared_ = nullptr;
   pid_t pid_ = -1;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "wheeltec/version.hpp"
 
 namespace wheeltec::daemon {
@@ -30,13 +32,24 @@ json dock_json(const std::optional<DockStatus>& dock) {
 
 double round_battery_v(double volts) { return round_to(volts, 100.0); }
 
+std::string status_line(const StatusFields& fields, std::uint64_t clients) {
+  std::string line = fmt::format("bus {}, chassis {}", to_string(fields.bus_state), fields.online ? "online" : "offline");
+  if (fields.battery_v) line += fmt::format(", battery {:.2f} V", *fields.battery_v);
+  line += fmt::format(", {} client{}", clients, clients == 1 ? "" : "s");
+  if (fields.control_enabled) line += ", control enabled";
+  return line;
+}
+
 json status_to_json(const StatusIdentity& identity, const StatusFields& fields, double uptime_s,
                     std::optional<double> telemetry_age_s) {
   if (telemetry_age_s) telemetry_age_s = round_to(*telemetry_age_s, 1000.0);
   return json{
       {"version", kVersion},
       {"uptime_s", round_to(uptime_s, 1000.0)},
-      {"bus", {{"interface", identity.interface}, {"state", to_string(fields.bus_state)}}},
+      {"bus",
+       {{"transport", to_string(identity.transport)},
+        {"interface", identity.interface},
+        {"state", to_string(fields.bus_state)}}},
       {"chassis",
        {{"type", to_string(identity.chassis_type)},
         {"dialect", to_string(identity.dialect)},

@@ -1,7 +1,9 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
@@ -10,7 +12,7 @@
 #include "wheeltec/control_arbiter.hpp"
 #include "wheeltec/types.hpp"
 
-#include "can_link.hpp"
+#include "wheeltec/bus_state.hpp"
 
 namespace wheeltec::daemon {
 
@@ -40,12 +42,16 @@ struct StatusFields {
 
 // What the status object says that never changes while the daemon runs.
 struct StatusIdentity {
-  std::string_view interface;
+  Transport transport = Transport::can;
+  std::string_view interface;  // the CAN interface or the serial device, as configured
   ChassisType chassis_type = ChassisType::mecanum;
   Dialect dialect = Dialect::manual;
 };
 
 double round_battery_v(double volts);  // to 0.01 V
+
+// The line systemd shows in `systemctl status` (STATUS=).
+std::string status_line(const StatusFields& fields, std::uint64_t clients);
 
 // The status object of spec section 2.
 nlohmann::json status_to_json(const StatusIdentity& identity, const StatusFields& fields, double uptime_s,

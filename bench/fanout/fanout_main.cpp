@@ -9,7 +9,7 @@
 //  - the frames (struct can_frame, three per record) arrive on a SOCK_SEQPACKET socket
 //    in place of the raw CAN socket, read by the daemon's asio_can::frame_reader in
 //    batches, with SO_TIMESTAMPNS receive times;
-//  - ChassisMonitor reassembles, validates and decodes them and keeps the odometry;
+//  - TelemetryReassembler and TelemetryDecoder rebuild, check and decode them and keep the odometry;
 //  - each record becomes the telemetry JSON line and goes through ApiServer and
 //    ClientSession, with their slow-client rule (64 KiB backlog, then replacement), to 64
 //    subscribers that read real Unix sockets in another thread.
@@ -64,7 +64,9 @@
 #include "api_counters.hpp"
 #include "api_server.hpp"
 #include "can_link.hpp"
-#include "chassis_monitor.hpp"
+#include "can_chassis_link.hpp"
+#include "wheeltec/telemetry_decoder.hpp"
+#include "wheeltec/telemetry_reassembler.hpp"
 #include "control_io.hpp"
 #include "control_loop.hpp"
 #include "control_policy.hpp"
@@ -138,11 +140,12 @@ class DaemonPath final : public GatewayUnderTest {
  public:
   DaemonPath(const fs::path& socket, int frame_socket)
       : config_(config_for(socket)),
-        link_(io_, "unused"),
-        chassis_(io_, std::chrono::seconds(1), 20.0),
-        control_io_(io_, link_, config_.control.rate_hz),
-        control_(control_io_.ports(), config_),
-        rpc_(control_, chassis_, config_.chassis.type, counters_, [] { return json::object(); },
+        link_(io_, config_),
+        telemetry_(20.0),
+        supervisor_(supervisor_settings(config_)),
+        control_io_(io_, link_, config_),
+        control_(control_io_.ports(), supervisor_, config_),
+        rpc_(control_, telemetry_, config_.chassis.type, config_.transport, counters_, [] { return json::object(); },
              [] { return json::object(); }),
         api_(io_, config_.api, std::nullopt, ControlPolicy(config_.api, ::getuid()), rpc_, counters_),
         frames_(io_),
@@ -153,7 +156,6 @@ class DaemonPath final : public GatewayUnderTest {
     ::setsockopt(frame_socket, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on));
     frames_.assign(asio_can::raw_protocol{}, frame_socket);
     frames_.non_blocking(true);
-    chassis_.on_sample([this](const TelemetrySample& sample) { api_.queue_telemetry(sample); });
     api_.start();
     reader_.start();
     thread_ = std::thread([this] { io_.run(); });
@@ -182,8 +184,13 @@ class DaemonPath final : public GatewayUnderTest {
  private:
   void on_frames(std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
     for (const asio_can::ReceivedFrame& received : frames) {
-      chassis_.feed(received.frame, received.time != RealtimeNanos{} ? received.time
-                                                                     : RealtimeNanos(std::chrono::system_clock::now()));
+      const RealtimeNanos time =
+          received.time != RealtimeNanos{} ? received.time : RealtimeNanos(std::chrono::system_clock::now());
+      if (const auto assembled = reassembler_.feed(received.frame, time)) {
+        const TelemetrySample& sample = telemetry_.decode(assembled->bytes, assembled->time);
+        control_.record({sample.time, sample.record.stopped, sample.record.velocity});
+        api_.queue_telemetry(sample);
+      }
     }
     api_.send_queued();  // as Gateway does after each batch (CanLink::on_batch_handled)
     if (!ec) reader_.start();
@@ -193,8 +200,10 @@ class DaemonPath final : public GatewayUnderTest {
   boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_{io_.get_executor()};
   GatewayConfig config_;
   ApiCounters counters_;
-  CanLink link_;  // never started: the ControlLoop (and so the RpcHandler) needs one
-  ChassisMonitor chassis_;
+  CanChassisLink link_;  // never started: the ControlLoop (and so the RpcHandler) needs one
+  TelemetryReassembler reassembler_;
+  TelemetryDecoder telemetry_;
+  ChassisSupervisor supervisor_;
   ControlIo control_io_;
   ControlLoop control_;
   RpcHandler rpc_;

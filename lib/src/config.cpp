@@ -197,6 +197,16 @@ void apply_config(const json& document, GatewayConfig& config) {
   }
   GatewayConfig& c = config;
   apply_object(document, "", {
+    {"transport", [&](const json& v, const std::string& p) { c.transport = read_enum<Transport>(v, p); }},
+    {"serial", [&](const json& v, const std::string& p) {
+       apply_object(v, p, {
+         {"device", [&](const json& x, const std::string& q) { c.serial.device = read_string(x, q); }},
+         {"baud", [&](const json& x, const std::string& q) {
+            c.serial.baud = static_cast<std::uint32_t>(
+                read_integer(x, q, 0, std::numeric_limits<std::uint32_t>::max()));
+          }},
+       });
+     }},
     {"can", [&](const json& v, const std::string& p) {
        apply_object(v, p, {
          {"interface", [&](const json& x, const std::string& q) { c.can.interface = read_string(x, q); }},
@@ -282,6 +292,14 @@ void validate_config(const GatewayConfig& c) {
   }
   if (c.can.bitrate == 0) fail("can.bitrate", "must be > 0");
 
+  if (c.serial.device.empty()) fail("serial.device", "must not be empty");
+  if (c.serial.device.front() != '/') {
+    fail("serial.device", fmt::format("must be an absolute path, got \"{}\"", c.serial.device));
+  }
+  if (!is_standard_baud(c.serial.baud)) {
+    fail("serial.baud", fmt::format("must be one of {}, got {}", fmt::join(kStandardBauds, ", "), c.serial.baud));
+  }
+
   check_closed(c.control.rate_hz, 1, 1000, "control.rate_hz");
   check_half_open(c.control.command_timeout_s, 0, 60, "control.command_timeout_s");
   check_half_open(c.control.enable_refresh_s, 0, 3600, "control.enable_refresh_s");
@@ -320,6 +338,8 @@ void validate_config(const GatewayConfig& c) {
 json config_to_json(const GatewayConfig& c) {
   json group = c.api.group ? json(*c.api.group) : json(nullptr);
   return json{
+      {"transport", std::string(to_string(c.transport))},
+      {"serial", {{"device", c.serial.device}, {"baud", c.serial.baud}}},
       {"can",
        {{"interface", c.can.interface}, {"dialect", std::string(to_string(c.can.dialect))}, {"bitrate", c.can.bitrate}}},
       {"chassis",

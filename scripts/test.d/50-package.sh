@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Debian package: cpack builds the .deb from $BUILD_DIR, it holds everything in its FHS
 # place with the config as a conffile, its maintainer scripts create the wheeltec user and
-# leave the service disabled, and lintian reports no errors.
+# leave the service disabled, the udev rule names only the vendor's serial cable (udevadm test
+# on a made-up sysfs), and lintian reports no errors.
 set -euo pipefail
 : "${REPO_ROOT:?}" "${BUILD_DIR:?}"
 source "$REPO_ROOT/scripts/lib/setup.sh"
@@ -34,6 +35,7 @@ expect_file usr/share/wheeltec-web/index.html -rw-r--r--
 expect_file usr/share/doc/wheeltec-gateway/web.md -rw-r--r--
 expect_file usr/lib/systemd/system/wheeltecd.service -rw-r--r--
 expect_file usr/lib/systemd/network/80-wheeltec-can.network -rw-r--r--
+expect_file usr/lib/udev/rules.d/60-wheeltec-controller.rules -rw-r--r--
 expect_file etc/wheeltecd/wheeltecd.json -rw-r--r--
 expect_file usr/share/man/man8/wheeltecd.8.gz -rw-r--r--
 expect_file usr/share/man/man1/wheeltecctl.1.gz -rw-r--r--
@@ -68,8 +70,116 @@ for unit in wheeltecd.service wheeltec-mqtt.service wheeltec-web.service; do
   grep -q "$unit" "$work/control/postrm" || fail "postrm does not purge $unit"
 done
 
-# The man pages render without warnings.
+# The udev rule is applied at install to a cable already plugged in, only where udev runs.
+grep -q 'udevadm trigger --action=change' "$work/control/postinst" || fail "postinst does not apply the udev rule"
+grep -q -- '-S /run/udev/control' "$work/control/postinst" || fail "postinst runs udevadm without checking that udev runs"
+
 dpkg-deb -x "$deb" "$work/root"
+
+# The udev rule, as shipped, under Debian's udevadm: `udevadm test` on a made-up sysfs, in a
+# mount namespace of its own (tmpfs over /sys, /run and /dev, so nothing on this machine
+# changes). Only a CP2102 (10c4:ea60) or CH343 (1a86:55d4) with WHEELTEC's serial string 0002
+# becomes /dev/wheeltec_controller, group wheeltec, mode 0660, ignored by ModemManager and
+# without gpsd's hotplug; the vendor's lidar (0001), other CP2102s and a CH340 keep their
+# names; the file parses without a complaint. Debian 12's udevadm (252) has no `verify`;
+# where a newer one has, it runs too. No udev here: udevadm comes from Debian's udev
+# package, unpacked into the scratch directory, not installed.
+udev_rule=usr/lib/udev/rules.d/60-wheeltec-controller.rules
+udevadm=$(command -v udevadm || true)
+if [[ -z $udevadm ]]; then
+  mkdir -p "$work/udev"
+  (cd "$work/udev" && apt-get download udev >/dev/null 2>&1) ||
+    (cd "$work/udev" && apt-get update >/dev/null 2>&1 && apt-get download udev >/dev/null 2>&1) || true
+  if deb_udev=$(ls "$work"/udev/udev_*.deb 2>/dev/null) && dpkg-deb -x "$deb_udev" "$work/udev/root"; then
+    udevadm=$work/udev/root/bin/udevadm
+  fi
+fi
+if [[ -z $udevadm ]]; then
+  fail "no udevadm to check $udev_rule with (apt-get download udev failed)"
+else
+  if "$udevadm" verify --help >/dev/null 2>&1; then
+    "$udevadm" verify "$work/root/$udev_rule" || fail "udevadm verify: $udev_rule"
+  fi
+  cat >"$work/udev-test.sh" <<'SCRIPT'
+# Runs inside `unshare`: RULE UDEVADM; prints "=== DEVICE" and udevadm test's output for each.
+set -euo pipefail
+rule=$1 udevadm=$2
+mount -t tmpfs none /run
+touch /run/null && mount --bind /dev/null /run/null
+mount -t tmpfs none /dev
+touch /dev/null && mount --bind /run/null /dev/null
+mount -t tmpfs none /sys
+mkdir -p /run/udev/rules.d /sys/class/tty /sys/bus/usb /sys/bus/usb-serial
+cp "$rule" /run/udev/rules.d/
+# Debian 12's gpsd: /usr/lib/udev/rules.d/60-gpsd.rules, its line for the CP2102.
+echo 'SUBSYSTEM=="tty", ATTRS{idVendor}=="10c4", ATTRS{idProduct}=="ea60", SYMLINK+="gps%n", TAG+="systemd", ENV{SYSTEMD_WANTS}="gpsdctl@%k.service"' \
+  >/run/udev/rules.d/60-gpsd.rules
+if ! grep -q '^wheeltec:' /etc/group; then
+  cp /etc/group /run/group && echo 'wheeltec:x:990:' >>/run/group && mount --bind /run/group /etc/group
+fi
+usb=/sys/devices/pci0000:00/0000:00:14.0/usb1
+mkdir -p $usb && echo DEVTYPE=usb_device >$usb/uevent && ln -s /sys/bus/usb $usb/subsystem
+add() {  # PORT VENDOR PRODUCT SERIAL TTY MAJOR MINOR
+  local dev=$usb/$1 interface=$usb/$1/$1:1.0 tty
+  mkdir -p "$interface"
+  printf 'DEVTYPE=usb_device\nPRODUCT=%s/%s/100\n' "$2" "$3" >"$dev/uevent"
+  echo "$2" >"$dev/idVendor" && echo "$3" >"$dev/idProduct" && echo "$4" >"$dev/serial"
+  echo DEVTYPE=usb_interface >"$interface/uevent"
+  ln -s /sys/bus/usb "$dev/subsystem" && ln -s /sys/bus/usb "$interface/subsystem"
+  if [[ $5 == ttyUSB* ]]; then  # usb-serial: a port device between interface and tty
+    mkdir -p "$interface/$5" && : >"$interface/$5/uevent" && ln -s /sys/bus/usb-serial "$interface/$5/subsystem"
+    tty=$interface/$5/tty/$5
+  else
+    tty=$interface/tty/$5
+  fi
+  mkdir -p "$tty"
+  printf 'MAJOR=%s\nMINOR=%s\nDEVNAME=%s\n' "$6" "$7" "$5" >"$tty/uevent" && echo "$6:$7" >"$tty/dev"
+  ln -s /sys/class/tty "$tty/subsystem" && ln -s "$tty" "/sys/class/tty/$5"
+}
+add 1-1 10c4 ea60 0002 ttyUSB0 188 0        # the controller's CP2102 cable
+add 1-2 10c4 ea60 0001 ttyUSB1 188 1        # WHEELTEC's lidar cable
+add 1-3 10c4 ea60 0123456789 ttyUSB2 188 2  # any other CP2102
+add 1-4 1a86 7523 0002 ttyUSB3 188 3        # a CH340
+add 1-5 1a86 55d4 0002 ttyACM0 166 0        # the controller's CH343, kernel driver cdc_acm
+add 1-6 1a86 55d4 0002 ttyCH343USB0 170 0   # the same with WCH's driver
+add 1-7 1a86 55d4 0001 ttyACM1 166 1        # WHEELTEC's lidar on a CH343
+for tty in ttyUSB0 ttyUSB1 ttyUSB2 ttyUSB3 ttyACM0 ttyCH343USB0 ttyACM1; do
+  echo "=== $tty"
+  SYSTEMD_DEVICE_VERIFY_SYSFS=0 "$udevadm" test --action=add "/sys/class/tty/$tty" 2>&1
+done
+SCRIPT
+  unshare_as=(unshare --mount --propagation private)
+  [[ $(id -u) -eq 0 ]] || unshare_as=(unshare --user --map-root-user --mount --propagation private)
+  if ! udev_output=$("${unshare_as[@]}" bash "$work/udev-test.sh" "$work/root/$udev_rule" "$udevadm" 2>&1); then
+    fail "udevadm test on a made-up sysfs did not run: $(tail -3 <<<"$udev_output")"
+  fi
+  gid=$(sed -n 's/^wheeltec:[^:]*:\([0-9]*\):.*/\1/p' /etc/group); gid=${gid:-990}
+  device_output() { awk -v d="=== $1" '$0 == d {on = 1; next} /^=== / {on = 0} on' <<<"$udev_output"; }
+  status_before_udev=$status
+  if problems=$(grep -E '^/run/udev/rules.d/60-wheeltec-controller.rules' <<<"$udev_output" | sort -u); then
+    fail "udevadm complains about $udev_rule: $problems"
+  fi
+  for tty in ttyUSB0 ttyACM0 ttyCH343USB0; do
+    out=$(device_output "$tty")
+    grep -q '^DEVLINKS=.*/dev/wheeltec_controller' <<<"$out" || fail "udev: $tty (vendor's cable) is not /dev/wheeltec_controller"
+    grep -q "60-wheeltec-controller.rules:[0-9]* GROUP $gid\$" <<<"$out" || fail "udev: $tty does not get the group wheeltec ($gid)"
+    grep -q '60-wheeltec-controller.rules:[0-9]* MODE 0660$' <<<"$out" || fail "udev: $tty does not get mode 0660"
+    grep -qx 'ID_MM_DEVICE_IGNORE=1' <<<"$out" || fail "udev: ModemManager does not ignore $tty"
+    if grep -q '^SYSTEMD_WANTS=.*gpsdctl' <<<"$out"; then fail "udev: gpsd's hotplug still wants $tty"; fi
+  done
+  for tty in ttyUSB1 ttyUSB2 ttyUSB3 ttyACM1; do
+    out=$(device_output "$tty")
+    [[ -n $out ]] || fail "udev: no udevadm test output for $tty"
+    if grep -qE 'wheeltec_controller|ID_MM_DEVICE_IGNORE|60-wheeltec-controller.rules:[0-9]' <<<"$out"; then
+      fail "udev: the rule takes $tty, which is not the vendor's controller cable"
+    fi
+  done
+  grep -q '^SYSTEMD_WANTS=gpsdctl@ttyUSB2.service' <<<"$(device_output ttyUSB2)" ||
+    fail "udev: the check's stand-in for gpsd's rule did not apply (the check itself is broken)"
+  ((status != status_before_udev)) || echo "udev rule: the controller's cables only (udevadm test, udev $("$udevadm" --version))"
+fi
+
+# The man pages render without warnings.
 for page in "$work"/root/usr/share/man/man*/*.gz; do
   warnings=$(zcat "$page" | groff -man -Tutf8 -ww -z 2>&1) || true
   [[ -z $warnings ]] || fail "$(basename "$page"): $warnings"

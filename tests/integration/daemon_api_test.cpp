@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "wheeltec/version.hpp"
 #include "can_bus.hpp"
 #include "control_frames.hpp"
 #include "shared_gateway.hpp"
@@ -27,7 +28,7 @@ class DaemonApi : public SharedGatewayTest {
     EXPECT_EQ(response["error"]["code"], code) << line << " -> " << response.dump();
     EXPECT_TRUE(response["error"]["message"].is_string() && !response["error"]["message"].get<std::string>().empty())
         << line << " -> " << response.dump();
-    EXPECT_EQ(client.call("version")["protocol"], 2) << "the connection must stay usable after: " << line;
+    EXPECT_EQ(client.call("version")["protocol"], wheeltec::kProtocolVersion) << "the connection must stay usable after: " << line;
   }
 };
 
@@ -123,7 +124,7 @@ TEST_F(DaemonApi, ManyClientsAreServedIndependently) {
   for (auto& client : clients) {
     const auto response = client.wait_response("v", 2s);
     ASSERT_TRUE(response.has_value());
-    EXPECT_EQ((*response)["result"]["protocol"], 2);
+    EXPECT_EQ((*response)["result"]["protocol"], wheeltec::kProtocolVersion);
   }
   const Json stats = clients.front().call("stats");
   EXPECT_GE(stats["clients"].get<int>(), 10) << stats.dump();

@@ -15,6 +15,7 @@
 #include <wheeltec/telemetry_group.hpp>
 #include <wheeltec/telemetry_record.hpp>
 
+#include "wheeltec/version.hpp"
 #include "can_bus.hpp"
 #include "control_frames.hpp"
 #include "gateway.hpp"
@@ -304,7 +305,7 @@ TEST_F(DaemonLifecycle, ClientsBeyondMaxClientsAreRefused) {
   std::vector<RpcConnection> admitted;
   for (int i = 0; i < 3; ++i) {
     admitted.push_back(gateway_->connect());
-    EXPECT_EQ(admitted.back().call("version")["protocol"], 2);
+    EXPECT_EQ(admitted.back().call("version")["protocol"], wheeltec::kProtocolVersion);
   }
   auto refused = gateway_->connect();
   ASSERT_TRUE(refused.wait_closed(2s)) << "the client beyond api.max_clients was not disconnected";
@@ -312,7 +313,7 @@ TEST_F(DaemonLifecycle, ClientsBeyondMaxClientsAreRefused) {
   EXPECT_TRUE(Json::parse(refused.unread_lines().front())["error"].is_object()) << refused.unread_lines().front();
   admitted.pop_back();
   std::this_thread::sleep_for(100ms);
-  EXPECT_EQ(gateway_->connect().call("version")["protocol"], 2) << "a freed slot must admit a new client";
+  EXPECT_EQ(gateway_->connect().call("version")["protocol"], wheeltec::kProtocolVersion) << "a freed slot must admit a new client";
 }
 
 TEST_F(DaemonLifecycle, UnprivilegedClientsMayReadAndStopButNotDrive) {

@@ -92,7 +92,7 @@ TEST_F(DaemonTelemetry, StatusDescribesTheOnlineChassis) {
   const Json status = client.call("status");
   EXPECT_EQ(status["version"], wheeltec::kVersion) << status.dump();
   EXPECT_GT(status["uptime_s"].get<double>(), 0.0) << status.dump();
-  EXPECT_EQ(status["bus"], Json({{"interface", test_interface()}, {"state", "up"}})) << status.dump();
+  EXPECT_EQ(status["bus"], Json({{"transport", "can"}, {"interface", test_interface()}, {"state", "up"}})) << status.dump();
   const Json& chassis = status["chassis"];
   EXPECT_EQ(chassis["type"], "mecanum") << status.dump();
   EXPECT_EQ(chassis["dialect"], "manual") << status.dump();
@@ -111,7 +111,7 @@ TEST_F(DaemonTelemetry, StatusDescribesTheOnlineChassis) {
 }
 
 TEST_F(DaemonTelemetry, VersionNamesTheProtocol) {
-  EXPECT_EQ(gateway().connect().call("version"), Json({{"version", wheeltec::kVersion}, {"protocol", 2}}));
+  EXPECT_EQ(gateway().connect().call("version"), Json({{"version", wheeltec::kVersion}, {"protocol", wheeltec::kProtocolVersion}}));
 }
 
 TEST_F(DaemonTelemetry, MeasuredVelocityAndOdometryFollowDrive) {

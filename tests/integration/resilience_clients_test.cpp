@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "wheeltec/version.hpp"
 #include "can_bus.hpp"
 #include "control_frames.hpp"
 #include "shared_gateway.hpp"
@@ -204,7 +205,7 @@ TEST_F(ResilienceClients, FloodingClientGetsEveryAnswerAndStarvesNoOne) {
   });
 
   const auto asked = SteadyClock::now();
-  EXPECT_EQ(bystander.call("version")["protocol"], 2);
+  EXPECT_EQ(bystander.call("version")["protocol"], wheeltec::kProtocolVersion);
   EXPECT_LT(std::chrono::duration<double>(SteadyClock::now() - asked).count(), 0.25)
       << "another client's request waited behind the flood";
   expect_steady_control_frames(bus, 1500ms, "while a client floods requests");
@@ -286,7 +287,7 @@ TEST_F(ResilienceClients, RequestsSplitAcrossWritesLoseNothing) {
     ASSERT_NE(end, std::string::npos) << "response " << id << " of 50 missing";
     const Json response = Json::parse(received.substr(start, end - start));
     EXPECT_EQ(response["id"], id) << response.dump();
-    EXPECT_EQ(response["result"]["protocol"], 2) << response.dump();
+    EXPECT_EQ(response["result"]["protocol"], wheeltec::kProtocolVersion) << response.dump();
     start = end + 1;
   }
 }

@@ -53,7 +53,7 @@ TEST_F(Wheeltecctl, Version) {
   EXPECT_NE(human.out.find(wheeltec::kVersion), std::string::npos) << human.describe();
   const auto json = ctl({"--json", "version"});
   ASSERT_TRUE(json.status.exited_with(0)) << json.describe();
-  EXPECT_EQ(single_json_line(json), Json({{"version", wheeltec::kVersion}, {"protocol", 2}}));
+  EXPECT_EQ(single_json_line(json), Json({{"version", wheeltec::kVersion}, {"protocol", wheeltec::kProtocolVersion}}));
 }
 
 TEST_F(Wheeltecctl, Status) {

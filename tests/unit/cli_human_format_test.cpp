@@ -56,6 +56,15 @@ TEST(CliHumanFormat, StatusOfOfflineChassisWithoutBatteryAndNoOwner) {
   EXPECT_NE(text.find("control:  disabled, no owner\n"), std::string::npos) << text;
 }
 
+TEST(CliHumanFormat, StatusNamesTheSerialLink) {
+  Json status = spec_status();
+  status["bus"] = Json{{"transport", "serial"}, {"interface", "/dev/wheeltec_controller"}, {"state", "up"}};
+  EXPECT_NE(format_status(status).find("bus:      serial /dev/wheeltec_controller up\n"), std::string::npos);
+  status["bus"]["transport"] = "can";
+  status["bus"]["interface"] = "can0";
+  EXPECT_NE(format_status(status).find("bus:      can0 up\n"), std::string::npos);
+}
+
 TEST(CliHumanFormat, StatusMarksLowBatteryAndStoppedMotors) {
   Json status = spec_status();
   status["chassis"]["battery_low"] = true;

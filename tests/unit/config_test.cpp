@@ -37,6 +37,9 @@ std::string validate_error(const GatewayConfig& config) {
 
 // Field-by-field comparison, so a failure names the field.
 void expect_same(const GatewayConfig& a, const GatewayConfig& b) {
+  EXPECT_EQ(a.transport, b.transport);
+  EXPECT_EQ(a.serial.device, b.serial.device);
+  EXPECT_EQ(a.serial.baud, b.serial.baud);
   EXPECT_EQ(a.can.interface, b.can.interface);
   EXPECT_EQ(a.can.dialect, b.can.dialect);
   EXPECT_EQ(a.can.bitrate, b.can.bitrate);
@@ -454,9 +457,32 @@ TEST(ConfigError, CarriesTheKey) {
   }
 }
 
+TEST(ConfigSerial, TransportAndSerialKeys) {
+  const GatewayConfig c =
+      parse_config(R"({"transport": "serial", "serial": {"device": "/dev/ttyUSB3", "baud": 230400}})");
+  EXPECT_EQ(c.transport, Transport::serial);
+  EXPECT_EQ(c.serial.device, "/dev/ttyUSB3");
+  EXPECT_EQ(c.serial.baud, 230400u);
+  EXPECT_EQ(GatewayConfig{}.transport, Transport::can);
+}
+
+TEST(ConfigSerial, BadValuesNameTheKey) {
+  EXPECT_EQ(config_error(R"({"transport": "usb"})"), "transport: must be one of can, serial, got \"usb\"");
+  EXPECT_EQ(config_error(R"({"transport": 1})"), "transport: expected a string, got number");
+  EXPECT_EQ(config_error(R"({"serial": {"device": ""}})"), "serial.device: must not be empty");
+  EXPECT_EQ(config_error(R"({"serial": {"device": "ttyUSB0"}})"),
+            "serial.device: must be an absolute path, got \"ttyUSB0\"");
+  EXPECT_EQ(config_error(R"({"serial": {"baud": 115201}})").rfind("serial.baud: must be one of 9600, 19200", 0), 0u);
+  EXPECT_EQ(config_error(R"({"serial": {"baud": "fast"}})"), "serial.baud: expected an integer, got string");
+  EXPECT_EQ(config_error(R"({"serial": {"parity": "none"}})"), "serial.parity: unknown key");
+  EXPECT_EQ(config_error(R"({"serial": "/dev/ttyUSB0"})"), "serial: expected an object, got string");
+}
+
 TEST(ConfigToJson, DefaultsInTheFileShape) {
   const json j = config_to_json(GatewayConfig{});
   const json expected = json::parse(R"({
+    "transport": "can",
+    "serial":    { "device": "/dev/wheeltec_controller", "baud": 115200 },
     "can":       { "interface": "can0", "dialect": "manual", "bitrate": 1000000 },
     "chassis":   { "type": "mecanum", "ackermann_z": "yaw_rate" },
     "control":   { "rate_hz": 20, "command_timeout_s": 0.5, "auto_enable": true,

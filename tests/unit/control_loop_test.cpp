@@ -43,7 +43,7 @@ struct BusFrame {
 };
 
 // The simulated clock, bus, timers and stall guard: time moves only in advance_to().
-class Simulation : public MonotonicClock, public FrameSink, public StallGuard {
+class Simulation : public MonotonicClock, public CommandSink, public StallGuard {
  public:
   explicit Simulation(Dialect dialect) : dialect_(dialect) {}
 
@@ -87,23 +87,20 @@ class Simulation : public MonotonicClock, public FrameSink, public StallGuard {
   };
 
   MonotonicNanos now() const override { return now_; }
-  bool bus_down() const override { return bus_down_; }
-  bool send(const CanFrame& frame) override {
-    BusFrame seen{now_, decode_enable_frame(frame), std::nullopt};
-    if (!seen.enable) {
-      const auto command = decode_control_frame(dialect_, frame);
-      EXPECT_TRUE(command.has_value()) << "neither a control nor an enable frame: ID " << frame.id;
-      if (command) seen.velocity = command_velocity(*command);
-    }
-    bus_.push_back(seen);
+  bool send_command(const ControlCommand& command) override {
+    bus_.push_back({now_, std::nullopt, command_velocity(command)});
     return true;
   }
-  void start() override { guard_started_ = true; }
-  void beat(std::uint32_t zero_frame_id) override {
-    ++beats_;
-    guard_zero_id_ = zero_frame_id;
+  void send_enable(bool enable) override {
+    if (dialect_ == Dialect::manual) bus_.push_back({now_, enable, std::nullopt});
   }
-  void disarm() override { guard_zero_id_ = 0; }
+  bool refreshes_enable() const override { return dialect_ == Dialect::manual; }
+  void start() override { guard_started_ = true; }
+  void beat() override {
+    ++beats_;
+    guard_armed_ = true;
+  }
+  void disarm() override { guard_armed_ = false; }
   void set_rate(double rate_hz) override { guard_rate_hz_ = rate_hz; }
 
   // Fires every event due up to `time`, in time order, each at its own time.
@@ -125,13 +122,12 @@ class Simulation : public MonotonicClock, public FrameSink, public StallGuard {
   // The frames sent since the last call.
   std::vector<BusFrame> take_frames() { return std::exchange(bus_, {}); }
 
-  ControlPorts ports() { return {*this, *this, period_, enable_, deadman_, *this}; }
+  ControlPorts ports() { return {*this, *this, period_, enable_, deadman_, offline_, *this}; }
 
   MonotonicNanos now_{1000s};
-  bool bus_down_ = false;
   bool guard_started_ = false;
   int beats_ = 0;
-  std::uint32_t guard_zero_id_ = 0;
+  bool guard_armed_ = false;
   double guard_rate_hz_ = 0.0;  // 0: never told
 
  private:
@@ -143,7 +139,8 @@ class Simulation : public MonotonicClock, public FrameSink, public StallGuard {
   Ticker period_{*this};
   Timer enable_{*this};
   Timer deadman_{*this};
-  std::vector<SimulatedEvent*> events_{&period_, &enable_, &deadman_};
+  Timer offline_{*this};
+  std::vector<SimulatedEvent*> events_{&period_, &enable_, &deadman_, &offline_};
 };
 
 constexpr ClientId kAlice = 1;
@@ -177,7 +174,9 @@ int enable_frames(const std::vector<BusFrame>& frames, bool flag) {
 class ControlLoopTest : public ::testing::Test {
  protected:
   explicit ControlLoopTest(Dialect dialect = Dialect::manual)
-      : sim_(dialect), config_(config_for(dialect)), loop_(sim_.ports(), config_) {
+      : sim_(dialect), config_(config_for(dialect)), supervisor_(supervisor_settings(config_)),
+        loop_(sim_.ports(), supervisor_, config_) {
+    loop_.link_changed(LinkState::up);
     loop_.on_change([this] { ++changes_; });
   }
 
@@ -196,6 +195,7 @@ class ControlLoopTest : public ::testing::Test {
 
   Simulation sim_;
   GatewayConfig config_;
+  ChassisSupervisor supervisor_;
   ControlLoop loop_;
   int changes_ = 0;
 };
@@ -207,7 +207,7 @@ TEST_F(ControlLoopTest, StartSendsZeroThenEnablesAndRepeatsEveryPeriod) {
   EXPECT_EQ(frames[0].velocity, kZero) << "the first frame is zero";
   EXPECT_EQ(frames[1].enable, true);
   EXPECT_EQ(frames[2].velocity, kZero);
-  EXPECT_TRUE(loop_.enabled());
+  EXPECT_TRUE(supervisor_.enabled());
   EXPECT_TRUE(sim_.guard_started_);
 
   sim_.advance(kPeriod - 1ns);
@@ -234,10 +234,10 @@ TEST_F(ControlLoopTest, ReloadedRateRetimesTheStallGuard) {
 TEST_F(ControlLoopTest, DriveSendsAtOnceAndTheLastCommandEveryPeriod) {
   start();
   const DriveResult result = loop_.drive(kAlice, kForward);
-  EXPECT_EQ(result.outcome, DriveOutcome::accepted);
+  EXPECT_EQ(result.decision.refusal, std::nullopt);
   EXPECT_EQ(result.sent, kForward);
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kForward});
-  EXPECT_EQ(loop_.owner(), kAlice);
+  EXPECT_EQ(supervisor_.owner(), kAlice);
   EXPECT_EQ(changes_, 1);
 
   // Frames stay on the grid the loop started with: the first one 50 ms after start().
@@ -278,14 +278,14 @@ TEST_F(ControlLoopTest, DeadmanLapsesExactlyAtTheDeadline) {
   sim_.take_frames();
 
   sim_.advance_to(driven + kTimeout - 1us);
-  EXPECT_EQ(loop_.owner(), kAlice);
+  EXPECT_EQ(supervisor_.owner(), kAlice);
   const auto before = velocities(sim_.take_frames());
   ASSERT_FALSE(before.empty());
   EXPECT_TRUE(std::all_of(before.begin(), before.end(), [](const Velocity& v) { return v == kForward; }));
 
   sim_.advance_to(driven + kTimeout);
-  EXPECT_EQ(loop_.owner(), std::nullopt);
-  EXPECT_EQ(loop_.target(), kZero);
+  EXPECT_EQ(supervisor_.owner(), std::nullopt);
+  EXPECT_EQ(supervisor_.target(), kZero);
   const auto at_deadline = sim_.take_frames();
   ASSERT_EQ(at_deadline.size(), 1u);
   EXPECT_EQ(at_deadline[0].time, driven + kTimeout);
@@ -306,7 +306,7 @@ TEST_F(ControlLoopTest, DeadmanOnAPeriodTickSendsZeroNotTheLapsedCommand) {
   const auto frames = velocities(sim_.take_frames());
   ASSERT_FALSE(frames.empty());
   EXPECT_TRUE(std::all_of(frames.begin(), frames.end(), [](const Velocity& v) { return v == kZero; }));
-  EXPECT_EQ(loop_.owner(), std::nullopt);
+  EXPECT_EQ(supervisor_.owner(), std::nullopt);
 }
 
 TEST_F(ControlLoopTest, EachDriveMovesTheDeadline) {
@@ -316,10 +316,10 @@ TEST_F(ControlLoopTest, EachDriveMovesTheDeadline) {
   const MonotonicNanos last_drive = sim_.now();
   loop_.drive(kAlice, kForward);
   sim_.advance_to(last_drive + kTimeout - 1us);
-  EXPECT_EQ(loop_.owner(), kAlice);
+  EXPECT_EQ(supervisor_.owner(), kAlice);
   EXPECT_EQ(velocities(sim_.take_frames()).back(), kForward);
   sim_.advance_to(last_drive + kTimeout);
-  EXPECT_EQ(loop_.owner(), std::nullopt);
+  EXPECT_EQ(supervisor_.owner(), std::nullopt);
   EXPECT_EQ(velocities(sim_.take_frames()).back(), kZero);
 }
 
@@ -327,15 +327,15 @@ TEST_F(ControlLoopTest, AnotherClientIsRefusedWhileTheOwnerDrives) {
   start();
   loop_.drive(kAlice, kForward);
   sim_.take_frames();
-  EXPECT_EQ(loop_.drive(kBob, {-0.5, 0.0, 0.0}).outcome, DriveOutcome::control_held);
+  EXPECT_EQ(loop_.drive(kBob, {-0.5, 0.0, 0.0}).decision.refusal, DriveRefusal::control_held);
   EXPECT_TRUE(sim_.take_frames().empty());
   EXPECT_EQ(changes_, 1);
 
   // Once Alice's command lapses, Bob takes control.
   sim_.advance(kTimeout);
   sim_.take_frames();
-  EXPECT_EQ(loop_.drive(kBob, {-0.5, 0.0, 0.0}).outcome, DriveOutcome::accepted);
-  EXPECT_EQ(loop_.owner(), kBob);
+  EXPECT_EQ(loop_.drive(kBob, {-0.5, 0.0, 0.0}).decision.refusal, std::nullopt);
+  EXPECT_EQ(supervisor_.owner(), kBob);
   EXPECT_EQ(velocities(sim_.take_frames()), (std::vector<Velocity>{{-0.5, 0.0, 0.0}}));
 }
 
@@ -345,12 +345,12 @@ TEST_F(ControlLoopTest, OwnerGoneSendsZeroAtOnceOthersGoneChangeNothing) {
   sim_.take_frames();
   loop_.client_gone(kBob);
   EXPECT_TRUE(sim_.take_frames().empty());
-  EXPECT_EQ(loop_.owner(), kAlice);
+  EXPECT_EQ(supervisor_.owner(), kAlice);
 
   loop_.client_gone(kAlice);
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
-  EXPECT_EQ(loop_.owner(), std::nullopt);
-  EXPECT_EQ(loop_.drive(kBob, kForward).outcome, DriveOutcome::accepted);
+  EXPECT_EQ(supervisor_.owner(), std::nullopt);
+  EXPECT_EQ(loop_.drive(kBob, kForward).decision.refusal, std::nullopt);
 }
 
 TEST_F(ControlLoopTest, StopSendsZeroAtOnceEvenWhenAlreadyZero) {
@@ -362,7 +362,7 @@ TEST_F(ControlLoopTest, StopSendsZeroAtOnceEvenWhenAlreadyZero) {
   sim_.take_frames();
   loop_.stop();
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
-  EXPECT_EQ(loop_.owner(), std::nullopt);
+  EXPECT_EQ(supervisor_.owner(), std::nullopt);
   EXPECT_EQ(changes_, 2);
 }
 
@@ -372,9 +372,9 @@ TEST_F(ControlLoopTest, DisableSendsZeroThenDisableAndStopsTheFrames) {
   sim_.take_frames();
   loop_.disable();
   expect_zero_then_disable(sim_.take_frames());
-  EXPECT_FALSE(loop_.enabled());
-  EXPECT_EQ(sim_.guard_zero_id_, 0u) << "the stall guard is disarmed";
-  EXPECT_EQ(loop_.drive(kAlice, kForward).outcome, DriveOutcome::control_disabled);
+  EXPECT_FALSE(supervisor_.enabled());
+  EXPECT_FALSE(sim_.guard_armed_) << "the stall guard is disarmed";
+  EXPECT_EQ(loop_.drive(kAlice, kForward).decision.refusal, DriveRefusal::control_disabled);
   sim_.advance(5s);
   EXPECT_TRUE(sim_.take_frames().empty());
 }
@@ -399,22 +399,21 @@ TEST_F(ControlLoopTest, ShutdownSendsZeroThenDisableAndNothingMore) {
   EXPECT_TRUE(sim_.take_frames().empty());
 }
 
-TEST_F(ControlLoopTest, StallGuardBeatsEachPeriodWithTheZeroFrameId) {
+TEST_F(ControlLoopTest, StallGuardBeatsEachPeriod) {
   start();
   const int beats = sim_.beats_;
   sim_.advance(10 * kPeriod);
   EXPECT_EQ(sim_.beats_ - beats, 10);
-  EXPECT_EQ(sim_.guard_zero_id_, kManualControlId);
+  EXPECT_TRUE(sim_.guard_armed_);
 }
 
 TEST_F(ControlLoopTest, BusDownRefusesDrivesAndLinkUpCatchesUp) {
   start();
-  sim_.bus_down_ = true;
-  EXPECT_EQ(loop_.drive(kAlice, kForward).outcome, DriveOutcome::bus_down);
+  loop_.link_changed(LinkState::down);
+  EXPECT_EQ(loop_.drive(kAlice, kForward).decision.refusal, DriveRefusal::link_down);
   sim_.advance(kPeriod);
   EXPECT_TRUE(sim_.take_frames().empty());
-  sim_.bus_down_ = false;
-  loop_.link_came_up();
+  loop_.link_changed(LinkState::up);
   const auto frames = sim_.take_frames();
   ASSERT_EQ(frames.size(), 2u);
   EXPECT_EQ(frames[0].enable, true);
@@ -443,7 +442,7 @@ TEST_F(ControlLoop0x181Test, NoEnableFramesAndTheDeadmanStillLapses) {
   const auto frames = sim_.take_frames();
   EXPECT_EQ(enable_frames(frames, true) + enable_frames(frames, false), 0);
   EXPECT_EQ(velocities(frames).back(), kZero);
-  EXPECT_EQ(sim_.guard_zero_id_, kControl0x181Id);
+  EXPECT_TRUE(sim_.guard_armed_);
 }
 
 }  // namespace

@@ -74,14 +74,18 @@ function onTelemetry(r) {
   redraw();
 }
 
+let transport = null;  // bus.transport: 'can' or 'serial' (protocol 3; absent from older daemons)
 function onStatus(s) {
   const yes = (v) => (v ? 'yes' : 'no');
-  $('bus-state').textContent = `${s.bus.interface}: ${s.bus.state}`;
+  transport = s.bus.transport || null;
+  // "serial /dev/wheeltec_controller: up", "can can0: up"; an older daemon: "can0: up".
+  $('bus-state').textContent = `${transport ? transport + ' ' : ''}${s.bus.interface}: ${s.bus.state}`;
   $('bus-state').className = s.bus.state === 'up' ? 'good' : 'bad';
   $('online').textContent = yes(s.chassis.online);
   $('online').className = s.chassis.online ? 'good' : 'bad';
+  const ignored = transport === 'serial' ? ' (commands ignored)' : ' (commands ignored: check can.dialect)';
   $('phase').textContent = s.chassis.phase === null || s.chassis.phase === undefined ? '-' : s.chassis.phase +
-    (s.chassis.commands_ignored ? ' (commands ignored: check can.dialect)' : '');
+    (s.chassis.commands_ignored ? ignored : '');
   $('enabled').textContent = yes(s.control.enabled);
   $('owner').textContent = s.control.owner === null ? 'nobody' : `client ${s.control.owner}`;
   commanded = s.control.target || { vx: 0, vy: 0, wz: 0 };
@@ -243,6 +247,15 @@ async function pollStats() {
       const stats = await response.json();
       $('discards').textContent = String(sum(stats.groups_discarded));
       $('rejects').textContent = String(sum(stats.records_rejected));
+      // The serial link's counters (protocol 3, serial only) in place of the CAN frame groups'.
+      const serial = stats.serial;
+      $('discards-row').hidden = Boolean(serial);
+      $('serial-row').hidden = !serial;
+      if (serial) {
+        // Rejected frames are in "rejected records" already; reopens counts the first open.
+        $('serial-line').textContent = `${serial.bytes_received} bytes received, ${serial.bytes_skipped} skipped, ` +
+          `port opened ${serial.reopens} time${serial.reopens === 1 ? '' : 's'}`;
+      }
     }
   } catch (error) { /* shown by the connection state */ }
   $('dropped').textContent = droppedHere ? 'yes (this page is too slow)' : '0';

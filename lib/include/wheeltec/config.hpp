@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -14,13 +15,29 @@
 
 namespace wheeltec {
 
+// The serial line rates termios names (B9600 ... B4000000) from 9600 up.
+inline constexpr std::array<std::uint32_t, 18> kStandardBauds{
+    9600, 19200, 38400, 57600, 115200, 230400, 460800, 500000, 576000,
+    921600, 1000000, 1152000, 1500000, 2000000, 2500000, 3000000, 3500000, 4000000};
+constexpr bool is_standard_baud(std::uint32_t baud) {
+  for (const std::uint32_t standard : kStandardBauds) {
+    if (standard == baud) return true;
+  }
+  return false;
+}
+
 // The daemon's configuration, defaults as in the product contract (spec section 2).
 struct GatewayConfig {
+  Transport transport = Transport::can;
   struct Can {
     std::string interface = "can0";
     Dialect dialect = Dialect::manual;
     std::uint32_t bitrate = 1000000;
   } can;
+  struct Serial {
+    std::string device = "/dev/wheeltec_controller";
+    std::uint32_t baud = 115200;
+  } serial;
   struct Chassis {
     ChassisType type = ChassisType::mecanum;
     AckermannZ ackermann_z = AckermannZ::yaw_rate;

@@ -20,6 +20,8 @@ struct Velocity {
 enum class Dialect { manual, id_0x181 };
 enum class ChassisType { diff, ackermann, mecanum, omni, tank, four_wd };
 enum class AckermannZ { yaw_rate, steering_angle };
+// The link to the chassis' controller: SocketCAN, or its serial port (spec section 8).
+enum class Transport { can, serial };
 
 // The one list of each enum's names: config file, command lines, API and logs use it.
 template <typename Enum>
@@ -44,14 +46,20 @@ inline constexpr std::array<EnumName<AckermannZ>, 2> kAckermannZNames{{
     {AckermannZ::yaw_rate, "yaw_rate"},
     {AckermannZ::steering_angle, "steering_angle"},
 }};
+inline constexpr std::array<EnumName<Transport>, 2> kTransportNames{{
+    {Transport::can, "can"},
+    {Transport::serial, "serial"},
+}};
 
 constexpr std::span<const EnumName<Dialect>> name_table(Dialect) { return kDialectNames; }
 constexpr std::span<const EnumName<ChassisType>> name_table(ChassisType) { return kChassisTypeNames; }
 constexpr std::span<const EnumName<AckermannZ>> name_table(AckermannZ) { return kAckermannZNames; }
+constexpr std::span<const EnumName<Transport>> name_table(Transport) { return kTransportNames; }
 
 std::string_view to_string(Dialect dialect);
 std::string_view to_string(ChassisType type);
 std::string_view to_string(AckermannZ mode);
+std::string_view to_string(Transport transport);
 
 // The value with this exact name (case and spaces count), nullopt for any other text.
 template <typename Enum>

@@ -1,0 +1,45 @@
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/bus_state.hpp"
+#include "wheeltec/charging_dock.hpp"
+#include "wheeltec/clocks.hpp"
+#include "wheeltec/control_frame.hpp"
+#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/types.hpp"
+
+#include "control_ports.hpp"
+
+namespace wheeltec::daemon {
+
+// The daemon's link to the chassis' controller, whatever carries it (CAN or the serial
+// line): velocity commands and enable/disable go down in the link's own frames; checked
+// telemetry records, the dock's reports and the link's state come up.
+class ChassisLink : public CommandSink {
+ public:
+  struct Handlers {
+    std::function<void(const RecordBytes& record, RealtimeNanos time)> record;
+    std::function<void(const ChargingDockState& report)> dock;
+    std::function<void(BusState state)> state;
+    // What the records of one read produced can go out together now.
+    std::function<void()> batch_handled;
+  };
+
+  virtual ~ChassisLink() = default;
+
+  // Handlers are called from the io_context.
+  virtual void start(Handlers handlers) = 0;
+  virtual void stop() = 0;
+
+  virtual BusState state() const = 0;
+  virtual Transport transport() const = 0;
+  virtual const std::string& name() const = 0;  // the interface or the device, as configured
+  // Its counters into `stats` (the stats object's link keys).
+  virtual void add_stats(nlohmann::json& stats) const = 0;
+};
+
+}  // namespace wheeltec::daemon

@@ -1,0 +1,47 @@
+#pragma once
+
+#include <functional>
+
+#include <boost/asio/io_context.hpp>
+
+#include "wheeltec/config.hpp"
+#include "wheeltec/serial_frame.hpp"
+
+#include "chassis_link.hpp"
+#include "serial_port.hpp"
+
+namespace wheeltec::daemon {
+
+// The chassis over its serial port (spec section 8): 11-byte command frames with Z a yaw
+// rate on every chassis, zero first whenever the port is (re)opened, no enable handshake;
+// records and the dock's charge frames found in the byte stream by content.
+class SerialChassisLink : public ChassisLink {
+ public:
+  using PortHandler = std::function<void(int fd)>;
+
+  SerialChassisLink(boost::asio::io_context& io, const GatewayConfig& config);
+
+  // Told the port's descriptor once it is open and locked, and told when it closes (-1):
+  // the stall sentinel writes its zero frame through it.
+  void on_port(PortHandler handler) { port_handler_ = std::move(handler); }
+
+  void start(Handlers handlers) override;
+  void stop() override { port_.stop(); }
+  bool send_command(const ControlCommand& command) override;
+  void send_enable(bool) override {}  // the serial line has no handshake
+  bool refreshes_enable() const override { return false; }
+  BusState state() const override { return port_.state(); }
+  Transport transport() const override { return Transport::serial; }
+  const std::string& name() const override { return port_.device(); }
+  void add_stats(nlohmann::json& stats) const override;
+
+ private:
+  void on_bytes(std::span<const std::uint8_t> bytes, RealtimeNanos time);
+
+  SerialPort port_;
+  serial::FrameFinder finder_;
+  Handlers handlers_;
+  PortHandler port_handler_;
+};
+
+}  // namespace wheeltec::daemon

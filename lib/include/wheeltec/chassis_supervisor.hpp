@@ -1,0 +1,111 @@
+#pragma once
+
+#include <chrono>
+#include <optional>
+
+#include "wheeltec/chassis_phase.hpp"
+#include "wheeltec/clocks.hpp"
+#include "wheeltec/command_response.hpp"
+#include "wheeltec/control_arbiter.hpp"
+#include "wheeltec/control_frame.hpp"
+#include "wheeltec/types.hpp"
+
+namespace wheeltec {
+
+// The link to the controller as the chassis rules see it (CAN's error-passive and bus-off
+// still carry frames: they count as up).
+enum class LinkState { down, up };
+
+// Whether control frames go out.
+enum class ControlMode {
+  not_started,          // nothing sent yet
+  awaiting_first_zero,  // started, disabled, and the start-up zero frame has not reached the link
+  disabled,             // nothing goes out but zero on stop/disable
+  enabled,              // a frame every period, one at once when the command changes
+  shut_down,            // zero sent on the way out; nothing more
+};
+
+// Why a drive was not taken.
+enum class DriveRefusal { chassis_not_ready, link_down, control_disabled, control_held };
+
+struct DriveDecision {
+  std::optional<DriveRefusal> refusal;  // empty: accepted
+  std::optional<ChassisPhase> phase;    // with chassis_not_ready
+  std::optional<ClientId> owner;        // with control_held
+  bool command_changed = false;         // accepted and the frame differs: send it now
+};
+
+// What a telemetry record changed.
+struct RecordOutcome {
+  bool came_online = false;
+  std::optional<ChassisStage> previous_stage;  // when the stage changed
+  std::optional<ChassisStage> stage;
+  bool stage_changed = false;
+  bool zeroed = false;            // booting or self-test entered: target zero, no owner; send it now
+  bool control_released = false;  // ... and something was driving until then
+  CommandResponse response_before = CommandResponse::idle;
+  CommandResponse response = CommandResponse::idle;
+};
+
+struct SupervisorSettings {
+  std::chrono::nanoseconds command_timeout = std::chrono::milliseconds(500);
+  std::chrono::nanoseconds telemetry_timeout = std::chrono::milliseconds(500);
+  VelocityLimits limits;
+};
+
+// The chassis rules in one place (spec section 2, "Control rules", and section 8): whether
+// a drive may go out and why not, the owner and the deadman, the controller's phases and
+// what entering one does, whether the chassis is online and follows its commands. Pure:
+// events come in with the time, the adapter around it sends what it decides.
+class ChassisSupervisor {
+ public:
+  explicit ChassisSupervisor(const SupervisorSettings& settings);
+
+  void apply(const SupervisorSettings& settings);
+
+  // Control. Each returns whether the command frame must go out now.
+  bool start();                // the start-up zero frame
+  void first_zero_sent();      // it reached the link
+  bool enable();               // true if control was disabled until now
+  bool disable();              // true if control was enabled until now; target zero, no owner
+  void stop();                 // target zero, no owner (always sent)
+  bool client_gone(ClientId client);     // true if it held control
+  bool expire_deadman(MonotonicNanos now);  // true if the owner's deadline passed
+  void shut_down();
+  DriveDecision drive(ClientId client, const Velocity& target, MonotonicNanos now);
+
+  // The chassis.
+  void link_changed(LinkState state) { link_ = state; }
+  RecordOutcome record(const PhaseInput& record, MonotonicNanos now);
+  bool expire_online(MonotonicNanos now);  // true if it just went offline
+
+  ControlMode mode() const { return mode_; }
+  bool enabled() const { return mode_ == ControlMode::enabled; }
+  LinkState link() const { return link_; }
+  std::optional<ClientId> owner() const { return arbiter_.owner(); }
+  const ControlCommand& command() const { return command_; }  // quantized, Z a yaw rate
+  Velocity target() const { return command_velocity(command_); }
+  std::optional<MonotonicNanos> deadman_deadline() const { return arbiter_.deadline(); }
+  bool online() const { return online_; }
+  std::optional<MonotonicNanos> offline_deadline() const;
+  std::optional<std::chrono::nanoseconds> telemetry_age(MonotonicNanos now) const;  // since the latest record
+  std::optional<ChassisPhase> phase() const { return phase_tracker_.phase(); }
+  std::optional<ChassisStage> stage() const { return phase_tracker_.stage(); }
+  bool commands_ignored() const { return response_.commands_ignored(); }
+
+ private:
+  // Quantizes the arbiter's target; true if the frame changed.
+  bool update_command();
+
+  SupervisorSettings settings_;
+  ControlMode mode_ = ControlMode::not_started;
+  LinkState link_ = LinkState::down;
+  ControlArbiter arbiter_;
+  ControlCommand command_;
+  bool online_ = false;
+  std::optional<MonotonicNanos> last_record_;
+  ChassisPhaseTracker phase_tracker_;
+  CommandResponseMonitor response_;
+};
+
+}  // namespace wheeltec

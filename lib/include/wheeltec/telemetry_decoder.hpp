@@ -1,0 +1,36 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "wheeltec/attitude_filter.hpp"
+#include "wheeltec/clocks.hpp"
+#include "wheeltec/odometry.hpp"
+#include "wheeltec/telemetry_json.hpp"
+#include "wheeltec/telemetry_record.hpp"
+
+namespace wheeltec {
+
+// Turns accepted 24-byte records, from either link, into the samples the API publishes:
+// sequence number, SI units, the low-battery flag, odometry and attitude over the
+// records' own times. Pure.
+class TelemetryDecoder {
+ public:
+  explicit TelemetryDecoder(double low_battery_v) : low_battery_v_(low_battery_v) {}
+
+  const TelemetrySample& decode(const RecordBytes& bytes, RealtimeNanos time);
+  void reset_odometry();
+  void set_low_battery_v(double volts) { low_battery_v_ = volts; }
+
+  const std::optional<TelemetrySample>& latest() const { return latest_; }
+  std::uint64_t records() const { return seq_; }
+
+ private:
+  double low_battery_v_;
+  Odometry odometry_;
+  AttitudeFilter attitude_;
+  std::optional<TelemetrySample> latest_;
+  std::uint64_t seq_ = 0;
+};
+
+}  // namespace wheeltec

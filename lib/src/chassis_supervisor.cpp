@@ -1,0 +1,137 @@
+#include "wheeltec/chassis_supervisor.hpp"
+
+namespace wheeltec {
+
+ChassisSupervisor::ChassisSupervisor(const SupervisorSettings& settings)
+    : settings_(settings), arbiter_(settings.command_timeout) {}
+
+void ChassisSupervisor::apply(const SupervisorSettings& settings) {
+  settings_ = settings;
+  arbiter_.set_command_timeout(settings.command_timeout);
+  update_command();  // new limits apply to the current target at once
+}
+
+bool ChassisSupervisor::update_command() {
+  const ControlCommand next = quantize_command(arbiter_.target(), settings_.limits);
+  const bool changed = next.x != command_.x || next.y != command_.y || next.z != command_.z;
+  command_ = next;
+  return changed;
+}
+
+bool ChassisSupervisor::start() {
+  if (mode_ != ControlMode::not_started) return false;
+  mode_ = ControlMode::awaiting_first_zero;
+  return true;
+}
+
+void ChassisSupervisor::first_zero_sent() {
+  if (mode_ == ControlMode::awaiting_first_zero) mode_ = ControlMode::disabled;
+}
+
+bool ChassisSupervisor::enable() {
+  if (mode_ != ControlMode::disabled && mode_ != ControlMode::awaiting_first_zero) return false;
+  mode_ = ControlMode::enabled;
+  return true;
+}
+
+bool ChassisSupervisor::disable() {
+  arbiter_.stop();
+  update_command();
+  if (mode_ != ControlMode::enabled) return false;
+  mode_ = ControlMode::disabled;
+  return true;
+}
+
+void ChassisSupervisor::stop() {
+  arbiter_.stop();
+  update_command();
+}
+
+bool ChassisSupervisor::client_gone(ClientId client) {
+  if (!arbiter_.release(client)) return false;
+  update_command();
+  return true;
+}
+
+bool ChassisSupervisor::expire_deadman(MonotonicNanos now) {
+  if (!arbiter_.expire(now)) return false;
+  update_command();
+  return true;
+}
+
+void ChassisSupervisor::shut_down() {
+  arbiter_.stop();
+  update_command();
+  mode_ = ControlMode::shut_down;
+}
+
+DriveDecision ChassisSupervisor::drive(ClientId client, const Velocity& target, MonotonicNanos now) {
+  DriveDecision decision;
+  if (const auto current = phase(); current && !obeys_commands(*current)) {
+    decision.refusal = DriveRefusal::chassis_not_ready;
+    decision.phase = current;
+    return decision;
+  }
+  if (link_ == LinkState::down) {
+    decision.refusal = DriveRefusal::link_down;
+    return decision;
+  }
+  if (mode_ != ControlMode::enabled) {
+    decision.refusal = DriveRefusal::control_disabled;
+    return decision;
+  }
+  if (!arbiter_.try_drive(client, target, now)) {
+    decision.refusal = DriveRefusal::control_held;
+    decision.owner = arbiter_.owner();
+    return decision;
+  }
+  decision.command_changed = update_command();
+  return decision;
+}
+
+RecordOutcome ChassisSupervisor::record(const PhaseInput& record, MonotonicNanos now) {
+  RecordOutcome outcome;
+  outcome.came_online = !online_;
+  online_ = true;
+  last_record_ = now;
+
+  const std::optional<ChassisStage> before = phase_tracker_.stage();
+  const ChassisStage stage = phase_tracker_.update(record);
+  if (stage != before) {
+    outcome.stage_changed = true;
+    outcome.previous_stage = before;
+    outcome.stage = stage;
+    // The firmware stores a command received now and runs it after its self-test: nothing
+    // but zero may be left standing.
+    const ChassisPhase entered = phase_of(stage);
+    if (entered == ChassisPhase::booting || entered == ChassisPhase::self_test) {
+      outcome.control_released = arbiter_.owner().has_value() || target() != Velocity{};
+      outcome.zeroed = true;
+      stop();
+    }
+  }
+  outcome.response_before = response_.state();
+  outcome.response = response_.update(target(), record.stopped, record.measured, record.time);
+  return outcome;
+}
+
+std::optional<MonotonicNanos> ChassisSupervisor::offline_deadline() const {
+  if (!online_ || !last_record_) return std::nullopt;
+  return *last_record_ + settings_.telemetry_timeout;
+}
+
+bool ChassisSupervisor::expire_online(MonotonicNanos now) {
+  const auto deadline = offline_deadline();
+  if (!deadline || now < *deadline) return false;
+  online_ = false;
+  phase_tracker_.went_offline();
+  response_.reset();
+  return true;
+}
+
+std::optional<std::chrono::nanoseconds> ChassisSupervisor::telemetry_age(MonotonicNanos now) const {
+  if (!last_record_) return std::nullopt;
+  return now - *last_record_;
+}
+
+}  // namespace wheeltec

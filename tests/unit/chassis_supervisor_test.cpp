@@ -1,0 +1,162 @@
+#include "wheeltec/chassis_supervisor.hpp"
+
+#include <gtest/gtest.h>
+
+namespace wheeltec {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr ClientId kAlice = 1;
+constexpr ClientId kBob = 2;
+const Velocity kForward{0.3, 0.0, 0.5};
+const MonotonicNanos kStart{1000s};
+const RealtimeNanos kEpoch{std::chrono::seconds(1763800000)};
+
+// A supervisor that was started, is enabled and sees its link up: ready to drive.
+class ChassisSupervisorTest : public ::testing::Test {
+ protected:
+  ChassisSupervisorTest() : supervisor_(SupervisorSettings{}) {
+    supervisor_.link_changed(LinkState::up);
+    supervisor_.start();
+    supervisor_.first_zero_sent();
+    supervisor_.enable();
+  }
+
+  // A record `at` after kStart (steady) with the same offset on the record clock.
+  RecordOutcome record(std::chrono::nanoseconds at, bool stopped, Velocity measured = {}) {
+    return supervisor_.record({kEpoch + at, stopped, measured}, kStart + at);
+  }
+
+  ChassisSupervisor supervisor_;
+};
+
+TEST(ChassisSupervisorModes, StartAwaitsTheFirstZeroThenEnables) {
+  ChassisSupervisor supervisor(SupervisorSettings{});
+  EXPECT_EQ(supervisor.mode(), ControlMode::not_started);
+  EXPECT_TRUE(supervisor.start());
+  EXPECT_FALSE(supervisor.start()) << "once";
+  EXPECT_EQ(supervisor.mode(), ControlMode::awaiting_first_zero);
+  supervisor.first_zero_sent();
+  EXPECT_EQ(supervisor.mode(), ControlMode::disabled);
+  EXPECT_TRUE(supervisor.enable());
+  EXPECT_FALSE(supervisor.enable()) << "already enabled";
+  EXPECT_TRUE(supervisor.disable());
+  EXPECT_FALSE(supervisor.disable());
+  supervisor.shut_down();
+  EXPECT_FALSE(supervisor.enable()) << "nothing after shutdown";
+}
+
+TEST_F(ChassisSupervisorTest, DriveIsQuantizedClampedAndOwned) {
+  const DriveDecision decision = supervisor_.drive(kAlice, {2.0, 0.0, 0.5004}, kStart);
+  EXPECT_EQ(decision.refusal, std::nullopt);
+  EXPECT_TRUE(decision.command_changed);
+  EXPECT_EQ(supervisor_.target(), (Velocity{1.0, 0.0, 0.5}));
+  EXPECT_TRUE(supervisor_.command().clamped);
+  EXPECT_EQ(supervisor_.owner(), kAlice);
+  EXPECT_FALSE(supervisor_.drive(kAlice, {2.0, 0.0, 0.5}, kStart + 10ms).command_changed) << "the same frame";
+}
+
+TEST_F(ChassisSupervisorTest, AnotherClientIsRefusedWithTheOwnerNamed) {
+  supervisor_.drive(kAlice, kForward, kStart);
+  const DriveDecision decision = supervisor_.drive(kBob, {}, kStart + 10ms);
+  EXPECT_EQ(decision.refusal, DriveRefusal::control_held);
+  EXPECT_EQ(decision.owner, kAlice);
+  EXPECT_EQ(supervisor_.target(), kForward);
+}
+
+TEST_F(ChassisSupervisorTest, TheDeadmanLapsesAtTheDeadlineExactly) {
+  supervisor_.drive(kAlice, kForward, kStart);
+  EXPECT_EQ(supervisor_.deadman_deadline(), kStart + 500ms);
+  EXPECT_FALSE(supervisor_.expire_deadman(kStart + 500ms - 1ns));
+  EXPECT_EQ(supervisor_.owner(), kAlice);
+  EXPECT_TRUE(supervisor_.expire_deadman(kStart + 500ms));
+  EXPECT_EQ(supervisor_.owner(), std::nullopt);
+  EXPECT_EQ(supervisor_.target(), Velocity{});
+  EXPECT_EQ(supervisor_.drive(kBob, kForward, kStart + 501ms).refusal, std::nullopt) << "control was released";
+}
+
+TEST_F(ChassisSupervisorTest, OnlyTheOwnerLeavingZeroesTheTarget) {
+  supervisor_.drive(kAlice, kForward, kStart);
+  EXPECT_FALSE(supervisor_.client_gone(kBob));
+  EXPECT_EQ(supervisor_.target(), kForward);
+  EXPECT_TRUE(supervisor_.client_gone(kAlice));
+  EXPECT_EQ(supervisor_.target(), Velocity{});
+}
+
+TEST_F(ChassisSupervisorTest, RefusalsComeInTheContractsOrder) {
+  record(0ms, true);  // flag_stop after a silence: booting
+  supervisor_.link_changed(LinkState::down);
+  supervisor_.disable();
+  DriveDecision decision = supervisor_.drive(kAlice, kForward, kStart);
+  EXPECT_EQ(decision.refusal, DriveRefusal::chassis_not_ready);
+  EXPECT_EQ(decision.phase, ChassisPhase::booting);
+
+  supervisor_.expire_online(kStart + 1s);  // offline: no phase
+  EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, DriveRefusal::link_down);
+  supervisor_.link_changed(LinkState::up);
+  EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, DriveRefusal::control_disabled);
+  supervisor_.enable();
+  EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, std::nullopt);
+}
+
+TEST_F(ChassisSupervisorTest, ARebootWhileDrivingZeroesTheTargetAndReleasesControl) {
+  record(0ms, false);
+  ASSERT_EQ(supervisor_.phase(), ChassisPhase::ready);
+  supervisor_.drive(kAlice, kForward, kStart + 10ms);
+  // A gap longer than a reboot's, then flag_stop: the controller rebooted.
+  const RecordOutcome outcome = record(1s, true);
+  EXPECT_TRUE(outcome.stage_changed);
+  EXPECT_EQ(outcome.previous_stage, ChassisStage::ready);
+  EXPECT_EQ(outcome.stage, ChassisStage::booting);
+  EXPECT_TRUE(outcome.zeroed);
+  EXPECT_TRUE(outcome.control_released);
+  EXPECT_EQ(supervisor_.owner(), std::nullopt);
+  EXPECT_EQ(supervisor_.target(), Velocity{});
+}
+
+TEST_F(ChassisSupervisorTest, OnlineUntilTheTelemetryTimeoutThenNoPhase) {
+  EXPECT_TRUE(record(0ms, false).came_online);
+  EXPECT_FALSE(record(50ms, false).came_online);
+  EXPECT_EQ(supervisor_.offline_deadline(), kStart + 550ms);
+  EXPECT_EQ(supervisor_.telemetry_age(kStart + 80ms), 30ms);
+  EXPECT_FALSE(supervisor_.expire_online(kStart + 550ms - 1ns));
+  EXPECT_TRUE(supervisor_.online());
+  EXPECT_TRUE(supervisor_.expire_online(kStart + 550ms));
+  EXPECT_FALSE(supervisor_.online());
+  EXPECT_EQ(supervisor_.phase(), std::nullopt);
+  EXPECT_FALSE(supervisor_.expire_online(kStart + 2s)) << "once";
+}
+
+TEST_F(ChassisSupervisorTest, CommandsIgnoredAfterASecondOfNoMotion) {
+  record(0ms, false);
+  supervisor_.drive(kAlice, kForward, kStart);
+  RecordOutcome outcome;
+  for (auto at = 50ms; at <= 1050ms; at += 50ms) {
+    supervisor_.drive(kAlice, kForward, kStart + at);
+    outcome = record(at, false);
+  }
+  EXPECT_EQ(outcome.response, CommandResponse::ignored);
+  EXPECT_TRUE(supervisor_.commands_ignored());
+  outcome = record(1100ms, false, kForward);
+  EXPECT_EQ(outcome.response_before, CommandResponse::ignored);
+  EXPECT_FALSE(supervisor_.commands_ignored()) << "motion measured";
+}
+
+TEST_F(ChassisSupervisorTest, NewLimitsApplyToTheCurrentTarget) {
+  supervisor_.drive(kAlice, {0.8, 0.0, 0.0}, kStart);
+  SupervisorSettings slower;
+  slower.limits.vx = 0.5;
+  supervisor_.apply(slower);
+  EXPECT_EQ(supervisor_.target(), (Velocity{0.5, 0.0, 0.0}));
+}
+
+TEST_F(ChassisSupervisorTest, ShutDownZeroesAndRefusesDrives) {
+  supervisor_.drive(kAlice, kForward, kStart);
+  supervisor_.shut_down();
+  EXPECT_EQ(supervisor_.target(), Velocity{});
+  EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart).refusal, DriveRefusal::control_disabled);
+}
+
+}  // namespace
+}  // namespace wheeltec
