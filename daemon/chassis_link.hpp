@@ -27,6 +27,9 @@ class ChassisLink : public CommandSink {
     std::function<void(BusState state)> state;
     // What the records of one read produced can go out together now.
     std::function<void()> batch_handled;
+    // A link over a file (the serial port): its descriptor once open and locked, -1 when it
+    // closes; the stall sentinel writes its zero frame through it.
+    std::function<void(int fd)> port;
   };
 
   virtual ~ChassisLink() = default;

@@ -45,9 +45,6 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
       notifier_(io) {}
 
 void Gateway::start() {
-  if (auto* serial = dynamic_cast<SerialChassisLink*>(link_.get())) {
-    serial->on_port([this](int fd) { control_io_.use_port(fd); });
-  }
   dock_.on_change([this] { status_may_have_changed(); });
   control_.on_change([this] { status_may_have_changed(); });
   api_.on_client_gone([this](ClientId id) {
@@ -66,6 +63,7 @@ void Gateway::start() {
       .dock = [this](const ChargingDockState& report) { dock_.heard(report); },
       .state = [this](BusState state) { control_.link_changed(link_state_of(state)); },
       .batch_handled = [this] { api_.send_queued(); },
+      .port = [this](int fd) { control_io_.use_port(fd); },
   });
   control_.link_changed(link_state_of(link_->state()));
   control_.start();

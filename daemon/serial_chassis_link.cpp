@@ -15,10 +15,10 @@ void SerialChassisLink::start(Handlers handlers) {
     // The controller keeps running its last command: whatever held the port before us (or
     // we ourselves before an unplug) may have left it driving.
     port_.write(serial::encode_command_frame(ControlCommand{}));
-    if (port_handler_) port_handler_(fd);
+    if (handlers_.port) handlers_.port(fd);
   });
   port_.on_closing([this] {
-    if (port_handler_) port_handler_(-1);
+    if (handlers_.port) handlers_.port(-1);
   });
   port_.on_state([this](BusState state) {
     if (handlers_.state) handlers_.state(state);

@@ -17,13 +17,7 @@ namespace wheeltec::daemon {
 // records and the dock's charge frames found in the byte stream by content.
 class SerialChassisLink : public ChassisLink {
  public:
-  using PortHandler = std::function<void(int fd)>;
-
   SerialChassisLink(boost::asio::io_context& io, const GatewayConfig& config);
-
-  // Told the port's descriptor once it is open and locked, and told when it closes (-1):
-  // the stall sentinel writes its zero frame through it.
-  void on_port(PortHandler handler) { port_handler_ = std::move(handler); }
 
   void start(Handlers handlers) override;
   void stop() override { port_.stop(); }
@@ -41,7 +35,6 @@ class SerialChassisLink : public ChassisLink {
   SerialPort port_;
   serial::FrameFinder finder_;
   Handlers handlers_;
-  PortHandler port_handler_;
 };
 
 }  // namespace wheeltec::daemon

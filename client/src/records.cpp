@@ -38,7 +38,10 @@ Telemetry telemetry_from_json(const Json& record) {
 
 Status status_from_json(const Json& status) {
   Status out;
-  out.bus_state = status.at("bus").at("state").get<std::string>();
+  const Json& bus = status.at("bus");
+  out.bus_transport = bus.value("transport", "can");
+  out.bus_interface = bus.value("interface", "");
+  out.bus_state = bus.at("state").get<std::string>();
   const Json& chassis = status.at("chassis");
   out.online = chassis.at("online").get<bool>();
   out.stopped = chassis.value("stopped", false);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "wheeltec/big_endian.hpp"
+
 namespace wheeltec {
 
 namespace {
@@ -36,16 +38,6 @@ Quantized quantize_axis(double value, double limit) {
     clamped = true;
   }
   return {static_cast<std::int16_t>(units), clamped};
-}
-
-void put_be16(std::uint8_t* out, std::int16_t value) {
-  const auto bits = static_cast<std::uint16_t>(value);
-  out[0] = static_cast<std::uint8_t>(bits >> 8);
-  out[1] = static_cast<std::uint8_t>(bits & 0xFF);
-}
-
-std::int16_t get_be16(const std::uint8_t* in) {
-  return static_cast<std::int16_t>(static_cast<std::uint16_t>((in[0] << 8) | in[1]));
 }
 
 bool is_plain_data_frame(const CanFrame& frame) {

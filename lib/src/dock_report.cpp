@@ -2,21 +2,15 @@
 
 #include <cstdint>
 
+#include "wheeltec/big_endian.hpp"
+
 namespace wheeltec {
-namespace {
-
-std::int16_t int16_be(const CanFrame& frame, std::size_t at) {
-  return static_cast<std::int16_t>(static_cast<std::uint16_t>(frame.data[at] << 8 | frame.data[at + 1]));
-}
-
-}  // namespace
-
 std::optional<ChargingDockState> decode_dock_report(const CanFrame& frame) {
   if (frame.id != kDockReportId || frame.extended || frame.rtr || frame.error || frame.dlc != 8) return std::nullopt;
   const std::uint8_t flags = frame.data[6];
   ChargingDockState state;
-  state.approach_x = int16_be(frame, 0);
-  state.approach_z = int16_be(frame, 4);
+  state.approach_x = get_be16(&frame.data[0]);
+  state.approach_z = get_be16(&frame.data[4]);
   state.charging = (flags & 0x01) != 0;
   for (std::size_t i = 0; i < state.ir.size(); ++i) state.ir[i] = (flags >> (2 + i) & 1U) != 0;
   return state;

@@ -2,21 +2,13 @@
 
 #include <cstring>
 
+#include "wheeltec/big_endian.hpp"
+
 namespace wheeltec::serial {
 namespace {
 
 constexpr std::size_t kCommandBccIndex = 9;
 constexpr std::size_t kChargeBccIndex = 6;
-
-void put_be16(std::uint8_t* out, std::int16_t value) {
-  const auto bits = static_cast<std::uint16_t>(value);
-  out[0] = static_cast<std::uint8_t>(bits >> 8);
-  out[1] = static_cast<std::uint8_t>(bits & 0xFF);
-}
-
-std::int16_t get_be16(const std::uint8_t* in) {
-  return static_cast<std::int16_t>(static_cast<std::uint16_t>((in[0] << 8) | in[1]));
-}
 
 enum class Check { ok, bad_tail, bad_checksum };
 

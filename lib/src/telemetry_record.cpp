@@ -3,6 +3,8 @@
 #include <bit>
 #include <cstring>
 
+#include "wheeltec/big_endian.hpp"
+
 namespace wheeltec {
 
 namespace {
@@ -10,15 +12,9 @@ namespace {
 constexpr std::size_t kChecksumIndex = 22;
 constexpr std::size_t kTailIndex = 23;
 
-std::int16_t get_be16(const RecordBytes& bytes, std::size_t at) {
-  return static_cast<std::int16_t>(static_cast<std::uint16_t>((bytes[at] << 8) | bytes[at + 1]));
-}
+std::int16_t get_be16(const RecordBytes& bytes, std::size_t at) { return wheeltec::get_be16(&bytes[at]); }
 
-void put_be16(RecordBytes& bytes, std::size_t at, std::int16_t value) {
-  const auto bits = static_cast<std::uint16_t>(value);
-  bytes[at] = static_cast<std::uint8_t>(bits >> 8);
-  bytes[at + 1] = static_cast<std::uint8_t>(bits & 0xFF);
-}
+void put_be16(RecordBytes& bytes, std::size_t at, std::int16_t value) { wheeltec::put_be16(&bytes[at], value); }
 
 }  // namespace
 

@@ -51,7 +51,9 @@ struct Telemetry {
 };
 
 struct Status {
-  std::string bus_state;  // "up", "down", "error-passive", "bus-off"
+  std::string bus_transport = "can";  // "can" or "serial" (protocol 3; a protocol 2 daemon speaks CAN)
+  std::string bus_interface;          // the CAN interface or the serial device, as configured
+  std::string bus_state;              // "up", "down", "error-passive", "bus-off"
   bool online = false;
   std::optional<std::string> phase;  // "booting", "self-test", "ready", "halted"; empty while offline
   bool commands_ignored = false;
