@@ -2,6 +2,8 @@
 # Test stage: the tests again under AddressSanitizer + LeakSanitizer +
 # UndefinedBehaviorSanitizer, in one build:
 #   - the unit tests always (they need no CAN interface and run on the host);
+#   - the serial suites always (ctest -L serial: wheeltecd and wheeltec-emu on
+#     pseudo-terminals, which need no CAN interface either);
 #   - where scripts/vcan-run runs natively (a host with the vcan module), also the
 #     integration suites that need no CAN interface and every vcan suite (ctest -L vcan).
 #   - Inside User-Mode Linux (a kernel without SocketCAN) the vcan suites are not run
@@ -38,7 +40,7 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:dete
 
 failed=0
 build=$prefix
-targets=(unit_tests)
+targets=(unit_tests serial_tests)
 [[ -f $BUILD_DIR/tests/mqtt/mqtt_unit_tests ]] && targets+=(mqtt_unit_tests)
 [[ -f $BUILD_DIR/tests/web/web_unit_tests ]] && targets+=(web_unit_tests)
 if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
@@ -57,6 +59,8 @@ fi
 if [[ " ${targets[*]} " == *" web_unit_tests "* ]]; then
   "$build/tests/web/web_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
 fi
+echo "sanitizers: serial suites"
+(cd "$build" && ctest -L serial --output-on-failure) || failed=1
 if [[ $vcan == native ]]; then
   echo "sanitizers: command-line integration tests"
   "$build/tests/integration/integration_tests" --gtest_filter='CommandLine.*:EmulatorCommandLine.*' --gtest_color=no \
