@@ -27,11 +27,13 @@ using command_line::LowBound;
 
 std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** argv) {
   EmulatorOptions options;
-  CLI::App app("wheeltec-emu: emulates the STM32 controller of a WHEELTEC chassis on a (v)can interface",
+  CLI::App app("wheeltec-emu: emulates the STM32 controller of a WHEELTEC chassis on a (v)can interface "
+               "or a serial line",
                "wheeltec-emu");
   command_line::add_version_flag(app);
 
-  app.add_option("--interface", options.interface, "CAN interface")->capture_default_str();
+  CLI::Option* interface_option =
+      app.add_option("--interface", options.interface, "CAN interface")->capture_default_str();
 
   std::string chassis;
   CLI::Option* chassis_option =
@@ -59,7 +61,9 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
           },
           ""));
   bool dock = false;
-  app.add_flag("--dock", dock, "a WHEELTEC auto-recharge dock is on the bus too, charging the robot (0x182 frames)");
+  app.add_flag("--dock", dock,
+               "a WHEELTEC auto-recharge dock is on the bus too, charging the robot (0x182 frames; on --serial, "
+               "a 0x7C frame after each record)");
   std::string replay_file;
   CLI::Option* replay_option =
       app.add_option("--replay", replay_file, "instead of emulating, send the frames of this candump -L log at their "
@@ -68,14 +72,42 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
           ->type_name("FILE");
   bool loop = false;
   app.add_flag("--loop", loop, "with --replay: again and again")->needs(replay_option);
+  SerialLineOptions serial;
+  CLI::Option* serial_option =
+      app.add_option("--serial", serial.link, "instead of CAN, play the controller's serial line on a "
+                                              "pseudo-terminal published at PATH (a symlink)")
+          ->type_name("PATH")
+          ->excludes(interface_option)
+          ->excludes(replay_option)
+          ->group("Serial line");
+  double unplug_after = 0.0;
+  CLI::Option* unplug = app.add_option("--unplug-after", unplug_after,
+                                       "with --serial: hang up and remove PATH SECONDS after start")
+                            ->check(finite_in(0.0, 1e9))
+                            ->needs(serial_option)
+                            ->group("Serial line");
+  double replug_after = 0.0;
+  CLI::Option* replug = app.add_option("--replug-after", replug_after,
+                                       "with --unplug-after: publish a new pseudo-terminal at PATH SECONDS "
+                                       "after the unplug")
+                            ->check(finite_in(0.0, 1e9))
+                            ->needs(unplug)
+                            ->group("Serial line");
+  app.add_option("--junk", serial.junk,
+                 "with --serial: probability of a burst of 1-40 random bytes (a stray 0x7B among them) "
+                 "before a record")
+      ->check(finite_in(0.0, 1.0))
+      ->needs(serial_option)
+      ->group("Serial line");
   std::string dialect(to_string(options.dialect));
-  app.add_option("--dialect", dialect, "CAN dialect: manual (0x121 with enable frame) or 0x181")
+  app.add_option("--dialect", dialect,
+                 "CAN dialect: manual (0x121 with enable frame) or 0x181 (not on --serial, which has no handshake)")
       ->check(CLI::IsMember(enum_names<Dialect>()))
       ->capture_default_str();
   std::string ackermann_z(to_string(options.ackermann_z));
   app.add_option("--ackermann-z", ackermann_z,
                  "Ackermann only: Z is a yaw_rate (0.001 rad/s, V3.5 firmware) or a steering_angle (0.001 rad, "
-                 "C50X firmware)")
+                 "C50X firmware); on --serial always a yaw rate")
       ->check(CLI::IsMember(enum_names<AckermannZ>()))
       ->capture_default_str();
   // Geometry: the model's unless given.
@@ -179,6 +211,13 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
   if (*reboot) options.reboot_after_s = reboot_after;
   if (*silent) options.silent_after_s = silent_after;
   if (*seed_option) options.seed = seed;
+  if (*serial_option) {
+    if (*unplug) serial.unplug_after_s = unplug_after;
+    if (*replug) serial.replug_after_s = replug_after;
+    options.serial = serial;
+    // The firmware takes Z as a yaw rate on its serial line, converting it for Ackermann itself.
+    options.ackermann_z = AckermannZ::yaw_rate;
+  }
   return options;
 }
 

@@ -23,6 +23,14 @@ struct ReplayOptions {
   ReplayRepeat repeat = ReplayRepeat::once;
 };
 
+// --serial PATH: the controller's serial line on a pseudo-terminal published at PATH, instead of CAN.
+struct SerialLineOptions {
+  std::filesystem::path link;
+  std::optional<double> unplug_after_s;  // hang up this long after start
+  std::optional<double> replug_after_s;  // a new pseudo-terminal at `link` this long after the unplug
+  double junk = 0.0;                     // probability of a burst of random bytes before a record
+};
+
 struct EmulatorOptions {
   std::string interface = "vcan0";
   const RobotModel* model = &mini_model(ChassisType::mecanum);
@@ -43,6 +51,7 @@ struct EmulatorOptions {
   std::string log_level = "info";
   std::optional<std::uint32_t> seed;  // empty: a random seed, logged at start
   std::optional<ReplayOptions> replay;
+  std::optional<SerialLineOptions> serial;
 };
 
 // The exit status when the program should end right away (after --help, --version,

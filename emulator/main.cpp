@@ -3,8 +3,10 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
+#include <string>
 #include <variant>
 
 #include <boost/asio/io_context.hpp>
@@ -15,6 +17,7 @@
 #include "can_chassis.hpp"
 #include "emulator_options.hpp"
 #include "log_replay.hpp"
+#include "serial_chassis.hpp"
 #include "wheeltec/candump_log.hpp"
 #include "wheeltec/version.hpp"
 
@@ -43,11 +46,12 @@ std::variant<CandumpLog, int> read_log(const ReplayOptions& replay) {
 }
 
 void log_settings(const EmulatorOptions& options, std::uint32_t seed) {
-  spdlog::info("wheeltec-emu {} on {}: model {} ({} chassis, from {}), {} dialect, telemetry {} Hz, battery {} V, "
-               "seed {}",
-               kVersion, options.interface, options.model->name, to_string(options.chassis),
-               to_string(options.model->source), to_string(options.dialect), options.telemetry_hz, options.battery_v,
-               seed);
+  const std::string link = options.serial ? "serial line " + options.serial->link.string() : options.interface;
+  const std::string control =
+      options.serial ? "no handshake" : std::string(to_string(options.dialect)) + " dialect";
+  spdlog::info("wheeltec-emu {} on {}: model {} ({} chassis, from {}), {}, telemetry {} Hz, battery {} V, seed {}",
+               kVersion, link, options.model->name, to_string(options.chassis), to_string(options.model->source),
+               control, options.telemetry_hz, options.battery_v, seed);
   const ChassisGeometry& g = options.geometry;
   const WheelParameters& w = options.wheel;
   spdlog::info("geometry: wheel diameter {} m, track {} m, wheelbase {} m, omni radius {} m; encoder {} lines, "
@@ -77,8 +81,16 @@ int main(int argc, char** argv) {
     spdlog::set_default_logger(logger);
 
     boost::asio::io_context io;
+    // Before the serial line is published, so that a SIGTERM right after still removes it.
+    boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&io](const boost::system::error_code& ec, int signal) {
+      if (ec) return;
+      spdlog::info("{}: exiting", signal == SIGINT ? "SIGINT" : "SIGTERM");
+      io.stop();
+    });
     std::unique_ptr<LogReplay> replay;
-    std::unique_ptr<CanChassis> chassis;
+    std::unique_ptr<CanChassis> can_chassis;
+    std::unique_ptr<SerialChassis> serial_chassis;
     if (options.replay) {
       auto log = read_log(*options.replay);
       if (const int* status = std::get_if<int>(&log)) return *status;
@@ -90,20 +102,21 @@ int main(int argc, char** argv) {
       }
     } else {
       const std::uint32_t seed = options.seed.value_or(std::random_device{}());
-      chassis = std::make_unique<CanChassis>(io, options, seed);
-      if (const auto error = chassis->start()) {
+      std::optional<std::string> error;
+      if (options.serial) {
+        serial_chassis = std::make_unique<SerialChassis>(io, options, *options.serial, seed);
+        error = serial_chassis->start();
+      } else {
+        can_chassis = std::make_unique<CanChassis>(io, options, seed);
+        error = can_chassis->start();
+      }
+      if (error) {
         std::cerr << "wheeltec-emu: " << *error << '\n';
         return 1;
       }
       log_settings(options, seed);
     }
 
-    boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&io](const boost::system::error_code& ec, int signal) {
-      if (ec) return;
-      spdlog::info("{}: exiting", signal == SIGINT ? "SIGINT" : "SIGTERM");
-      io.stop();
-    });
     io.run();
     return 0;
   } catch (const std::exception& e) {

@@ -188,6 +188,13 @@ FrameOutcome ChassisEmulator::handle_0x181_frame(const CanFrame& frame) {
   return FrameOutcome::control_taken;
 }
 
+FrameOutcome ChassisEmulator::handle_serial_command(const ControlCommand& command) {
+  if (booting()) return FrameOutcome::ignored_booting;
+  if (phase() != ControllerPhase::running) return keep(command);
+  execute(command);
+  return FrameOutcome::applied;
+}
+
 Velocity ChassisEmulator::measured_velocity() const {
   WheelSpeeds speeds;
   speeds.count = wheels_.size();

@@ -360,3 +360,36 @@ TEST(ChassisEmulatorTest, GeometryOverridesTheDefaults) {
 
 }  // namespace
 }  // namespace wheeltec
+
+namespace wheeltec {
+namespace {
+
+TEST(ChassisEmulatorTest, SerialCommandsAreDroppedWhileBootingAndKeptDuringTheSelfTest) {
+  EmulatorSettings s = settings(ChassisType::mecanum, Dialect::manual, seconds(1));
+  s.self_test = SelfTest::drive;
+  ChassisEmulator chassis(s);
+  chassis.advance_to(milliseconds(500));
+  EXPECT_EQ(chassis.handle_serial_command(ControlCommand{100, 0, 0, false}), FrameOutcome::ignored_booting);
+  chassis.advance_to(milliseconds(1500));  // driving by itself
+  EXPECT_EQ(chassis.handle_serial_command(ControlCommand{250, 0, 0, false}),
+            FrameOutcome::kept_until_self_test_ends);
+  EXPECT_EQ(chassis.command(), ControlCommand{});
+  const AdvanceEvents events = chassis.advance_to(seconds(1) + kSelfTestDriveTime + kSelfTestStopTime);
+  EXPECT_TRUE(events.kept_command_applied);
+  EXPECT_EQ(chassis.command(), (ControlCommand{250, 0, 0, false}));
+  chassis.advance_to(chassis.time() + seconds(1));
+  EXPECT_NEAR(chassis.true_velocity().vx, 0.25, 0.005);
+}
+
+TEST(ChassisEmulatorTest, SerialCommandsNeedNoHandshake) {
+  // Whatever the CAN dialect: the serial line has no enable frame.
+  ChassisEmulator chassis(settings(ChassisType::diff, Dialect::manual, std::chrono::nanoseconds{0}));
+  EXPECT_EQ(chassis.handle_serial_command(ControlCommand{200, 0, 500, false}), FrameOutcome::applied);
+  EXPECT_NEAR(chassis.target().vx, 0.2, 1e-12);
+  EXPECT_NEAR(chassis.target().wz, 0.5, 1e-12);
+  EXPECT_EQ(chassis.handle_serial_command(ControlCommand{}), FrameOutcome::applied);
+  EXPECT_EQ(chassis.target(), Velocity{});
+}
+
+}  // namespace
+}  // namespace wheeltec

@@ -76,9 +76,9 @@ struct AdvanceEvents {
   bool kept_command_applied = false;  // a command received during boot or the self-test
 };
 
-// The STM32 controller of a WHEELTEC chassis as seen from the CAN bus: boot delay,
-// CAN control handshake per dialect, inverse kinematics, per-wheel PI loops, measured
-// velocities, IMU and battery. Deterministic: time is passed in (since power-on) and
+// The STM32 controller of a WHEELTEC chassis as seen from the CAN bus or its serial
+// line: boot delay, CAN control handshake per dialect, inverse kinematics, per-wheel PI
+// loops, measured velocities, IMU and battery. Deterministic: time is passed in (since power-on) and
 // randomness comes from the seed.
 class ChassisEmulator {
  public:
@@ -89,6 +89,9 @@ class ChassisEmulator {
 
   // Takes effect in the next control period.
   FrameOutcome handle_frame(const CanFrame& frame);
+  // A command frame from the serial line, which has no handshake: ignored while booting
+  // (the firmware drops every byte then), kept during the self-test, else applied.
+  FrameOutcome handle_serial_command(const ControlCommand& command);
 
   // The 24-byte record's fields as the firmware would send them now (draws sensor noise).
   // Its velocities are those of the encoder counts since the previous record.
