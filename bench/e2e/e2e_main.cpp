@@ -31,6 +31,7 @@
 #include "bench_clock.hpp"
 #include "can_endpoint.hpp"
 #include "child_program.hpp"
+#include "gateway_latency.hpp"
 #include "latency_stats.hpp"
 #include "process_profile.hpp"
 #include "subscriber_set.hpp"
@@ -97,11 +98,7 @@ Settings parse_arguments(int argc, char** argv) {
 
 // The frames of one valid telemetry record; `n` varies the velocity so records differ.
 wheeltec::TelemetryGroup telemetry_group(int n) {
-  wheeltec::RawTelemetry raw;
-  raw.vx = static_cast<std::int16_t>(n % 500);
-  raw.accel_z = 16400;
-  raw.battery_mv = 22500;
-  return wheeltec::make_telemetry_group(wheeltec::encode_record(raw));
+  return wheeltec::make_telemetry_group(wheeltec::encode_record(bench_record(n)));
 }
 
 void send_group(CanEndpoint& chassis, const wheeltec::TelemetryGroup& group) {
@@ -110,60 +107,18 @@ void send_group(CanEndpoint& chassis, const wheeltec::TelemetryGroup& group) {
 
 // ---- command latency: drive line written -> control frame read on a raw CAN socket ----
 
-// Each command's time split at the kernel's timestamp of the frame (when the sending program's
-// write() put it on vcan): `to_frame` is the daemon's part (woken by the request, read, handled,
-// frame written), `after_frame` the benchmark's (woken by the frame, or waiting for the vCPU
-// while the daemon finishes the request: the response write and whatever else it does before
-// it sleeps again).
-struct CommandLatency {
-  std::vector<double> total, to_frame, after_frame;
-  void append(const CommandLatency& other) {
-    total.insert(total.end(), other.total.begin(), other.total.end());
-    to_frame.insert(to_frame.end(), other.to_frame.begin(), other.to_frame.end());
-    after_frame.insert(after_frame.end(), other.after_frame.begin(), other.after_frame.end());
-  }
-  json to_json() const {
-    json j = summarize(total).to_json();
-    j["to_frame"] = summarize(to_frame).to_json();
-    j["after_frame"] = summarize(after_frame).to_json();
-    return j;
-  }
-};
-
-// `base_mm_per_s` keeps the targets of two programs driven in turns apart.
-CommandLatency command_latency(const fs::path& socket, CanEndpoint& observer, int commands, int base_mm_per_s = 100) {
-  LineClient client(socket);
-  CommandLatency result;
-  result.total.reserve(commands);
-  result.to_frame.reserve(commands);
-  result.after_frame.reserve(commands);
-  for (int i = 0; i < commands; ++i) {
-    const int mm_per_s = base_mm_per_s + (i % 2) * 100;  // a changed target each time: one frame at once
-    const std::string line = fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{}}}}})",
-                                         i + 1, mm_per_s / 1000.0);
-    const double start = now_us();
-    client.send_line(line);
-    double frame_us = 0;
+// The frame's time is the kernel's timestamp (when the sending program's write() put it on
+// vcan), so the command's time splits into the daemon's part and the benchmark's wakeup.
+CommandLatency command_latency(const fs::path& socket, CanEndpoint& observer, int commands, int base_mm_per_s) {
+  return bench::command_latency(socket, commands, base_mm_per_s, [&](int mm_per_s) -> std::optional<double> {
     for (;;) {
       auto stamped = observer.receive_stamped(1000);
-      if (!stamped) throw std::runtime_error("no control frame within 1 s after drive #" + std::to_string(i + 1));
+      if (!stamped) return std::nullopt;
       const auto& data = stamped->frame.data;
       const int x = static_cast<std::int16_t>((data[0] << 8) | data[1]);
-      if (x == mm_per_s) {  // periodic frames still carrying the previous target are skipped
-        frame_us = stamped->kernel_us;
-        break;
-      }
+      if (x == mm_per_s) return stamped->kernel_us;
     }
-    const double end = now_us();
-    result.total.push_back(end - start);
-    result.to_frame.push_back(frame_us - start);
-    result.after_frame.push_back(end - frame_us);
-    const std::string reply = client.read_line(1000);
-    if (reply.find("\"result\"") == std::string::npos) throw std::runtime_error("drive failed: " + reply);
-  }
-  client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
-  client.read_line(1000);
-  return result;
+  });
 }
 
 // The daemon and a relay floor running side by side, driven in alternating blocks, so that
@@ -203,38 +158,16 @@ LatencySummary bus_floor(const std::string& interface, int count) {
 
 // ---- telemetry latency: 0x103 sent -> notification read, for every subscriber ----
 
-struct TelemetryLatency {
-  LatencySummary all;  // one sample per subscriber and record
-  std::size_t lost = 0;
-};
-
+// 0x101 and 0x102 sent, clock started, 0x103 sent.
 TelemetryLatency telemetry_latency(const fs::path& socket, CanEndpoint& chassis, std::size_t subscribers, int records) {
-  SubscriberSet set(socket, subscribers);
-  std::vector<std::size_t> lines(subscribers, 0);
-  std::vector<double> samples;
-  samples.reserve(subscribers * records);
-  TelemetryLatency result;
-  for (int r = 0; r < records; ++r) {
-    const auto group = telemetry_group(r);
+  return bench::telemetry_latency(socket, subscribers, records, [&](int n) {
+    const auto group = telemetry_group(n);
     chassis.send(group.frames[0]);
     chassis.send(group.frames[1]);
     const double start = now_us();
     chassis.send(group.frames[2]);
-    std::size_t waiting = subscribers;
-    std::vector<bool> got(subscribers, false);
-    const double deadline = start + 1e6;
-    while (waiting > 0 && now_us() < deadline) {
-      for (std::size_t index : set.poll(100, lines)) {
-        if (got[index]) continue;
-        got[index] = true;
-        --waiting;
-        samples.push_back(now_us() - start);
-      }
-    }
-    result.lost += waiting;
-  }
-  result.all = summarize(std::move(samples));
-  return result;
+    return start;
+  });
 }
 
 // ---- telemetry at a steady rate, with the daemon's CPU over the run ----

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Test stage: the benchmarks still build and run. Each microbenchmark runs for a few
-# milliseconds and must not report an error, and the wheeltec-mqtt and wheeltec-web
-# benchmarks run once in their quick modes (inside scripts/vcan-run) and must report their
-# figures; nothing is timed or compared here (the figures come from scripts/bench.sh,
+# milliseconds and must not report an error, the serial-link benchmark runs once in its quick
+# mode (natively, on a pseudo-terminal), and the wheeltec-mqtt and wheeltec-web benchmarks
+# run once in their quick modes (inside scripts/vcan-run); each must report its figures.
+# Nothing is timed or compared here (the figures come from scripts/bench.sh,
 # scripts/bench-mqtt.sh and scripts/bench-web.sh, see docs/performance.md).
 set -euo pipefail
 
@@ -15,12 +16,13 @@ install_packages libbenchmark-dev
 # The main build may have been configured before Google Benchmark was installed.
 cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -DWHEELTEC_BUILD_BENCHMARKS=ON >/dev/null
 cmake --build "$BUILD_DIR" --target wheeltec-microbench wheeltec-bench-fanout wheeltec-bench-e2e wheeltec-bench-floor \
-  -j"${BUILD_JOBS:-2}"
+  wheeltec-bench-serial wheeltecd -j"${BUILD_JOBS:-2}"
 
 out=$(mktemp)
 fanout=$(mktemp)
+serial=$(mktemp)
 mqtt_out=$(mktemp -d)
-trap 'rm -f "$out" "$fanout"; rm -rf "$mqtt_out"' EXIT
+trap 'rm -f "$out" "$fanout" "$serial"; rm -rf "$mqtt_out"' EXIT
 "$BUILD_DIR/bench/wheeltec-microbench" --benchmark_min_time=0.01 --benchmark_format=json >"$out"
 python3 - "$out" <<'PY'
 import json, sys
@@ -49,6 +51,19 @@ for name in ("wheeltecd", "floor"):
     if step["notifications_received"] == 0:
         sys.exit(f"bench smoke: the fan-out benchmark's {name} delivered no notification: {step}")
 print("bench smoke: fan-out benchmark ran (wheeltecd and relay floor delivered telemetry)")
+PY
+
+# The serial-link benchmark's quick mode (a few seconds, natively on a pseudo-terminal): both
+# latencies must have samples.
+"$BUILD_DIR/bench/wheeltec-bench-serial" --quick --wheeltecd "$BUILD_DIR/daemon/wheeltecd" --json "$serial" >/dev/null
+python3 - "$serial" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))["wheeltecd"]
+drives, records = d["command_latency"]["count"], d["telemetry_latency_1"]["count"]
+if not (drives and records):
+    sys.exit(f"bench smoke: the serial benchmark timed {drives} drives and {records} records")
+print(f"bench smoke: serial benchmark ran ({drives} drives and {records} records timed, "
+      f"{d['telemetry_latency_1']['lost']} records lost)")
 PY
 
 # The wheeltec-mqtt benchmark's quick mode (about 30 s): one robot's latencies and CPU per

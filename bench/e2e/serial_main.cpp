@@ -1,0 +1,165 @@
+// wheeltec-bench-serial: wheeltecd on a serial line, measured natively on a pseudo-terminal
+// (no vcan, no User-Mode Linux). The benchmark is the controller: it owns the pty's master,
+// publishes the slave at a symlink and starts `wheeltecd --serial LINK`. Measures
+//  - drive -> command frame: `drive` written on the API socket to the 11-byte frame with
+//    that target read on the master;
+//  - record -> notification: a 24-byte record written on the master, the clock started
+//    before its last byte, to the `telemetry` notification read by one subscriber;
+// next to the pty's own cost (bytes from one end to the other in one process). Prints a
+// markdown table and writes the figures as JSON; scripts/bench.sh sets them beside vcan's.
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/serial_frame.hpp"
+
+#include "bench_clock.hpp"
+#include "child_program.hpp"
+#include "gateway_latency.hpp"
+#include "pty_endpoint.hpp"
+#include "pty_floor.hpp"
+#include "subscriber_set.hpp"
+
+namespace bench {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr const char* kUsage =
+    "usage: wheeltec-bench-serial --wheeltecd PATH [--json OUT] [--commands N] [--records N] [--quick]\n"
+    "  --quick: 200 drives and 200 records (default 2000 and 1000)\n";
+
+struct Options {
+  std::string wheeltecd, json_path;
+  int commands = 2000, records = 1000;
+
+  Options(int argc, char** argv) {
+    const std::map<std::string, std::function<void(const std::string&)>> valued = {
+        {"--wheeltecd", [this](const std::string& v) { wheeltecd = v; }},
+        {"--json", [this](const std::string& v) { json_path = v; }},
+        {"--commands", [this](const std::string& v) { commands = std::stoi(v); }},
+        {"--records", [this](const std::string& v) { records = std::stoi(v); }},
+    };
+    for (int i = 1; i < argc; ++i) {
+      const std::string key = argv[i];
+      if (key == "--help") {
+        std::cout << kUsage;
+        std::exit(0);
+      } else if (key == "--quick") {
+        commands = records = 200;
+      } else if (valued.contains(key) && i + 1 < argc) {
+        valued.at(key)(argv[++i]);
+      } else {
+        throw std::invalid_argument(kUsage);
+      }
+    }
+    if (wheeltecd.empty()) throw std::invalid_argument(kUsage);
+  }
+};
+
+json call(const fs::path& socket, const std::string& method) {
+  LineClient client(socket);
+  client.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":1,"method":"{}"}})", method));
+  return json::parse(client.read_line(2000)).at("result");
+}
+
+// Records with flag_stop clear at 20 Hz until the daemon says the chassis is online and
+// `ready` (a first record with flag_stop clear is ready at once).
+void bring_ready(PtyEndpoint& line, const fs::path& socket, ChildProgram& daemon) {
+  json status;
+  for (int n = 0; n < 100; ++n) {
+    line.write(wheeltec::encode_record(bench_record(n)));
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    status = call(socket, "status");
+    if (status["bus"]["state"] == "up" && status["chassis"]["online"] == true && status["chassis"]["phase"] == "ready") {
+      return;
+    }
+  }
+  throw std::runtime_error("the chassis did not become ready within 5 s; last status " + status.dump() + "\n" +
+                           daemon.log_tail());
+}
+
+std::string p50_p99(const LatencySummary& l) { return fmt::format("{:.0f} / {:.0f}", l.p50_us, l.p99_us); }
+
+int run(const Options& s) {
+  const fs::path dir = fs::temp_directory_path() / fmt::format("wheeltec-bench-serial-{}", ::getpid());
+  fs::create_directories(dir);
+  json out;
+
+  std::cerr << "bench: pty floor\n";
+  const PtyFloor floor = pty_floor(s.commands, wheeltec::kRecordSize, wheeltec::serial::kCommandFrameSize);
+  const LatencySummary floor_in = summarize(floor.to_slave), floor_out = summarize(floor.to_master);
+  out["floor"] = {{"record_master_to_slave", floor_in.to_json()}, {"command_slave_to_master", floor_out.to_json()}};
+
+  const fs::path link = dir / "wheeltec_controller";
+  const fs::path socket = dir / "wheeltecd.sock";
+  const fs::path config = dir / "wheeltecd.json";
+  std::ofstream(config) << json{{"control", {{"rate_hz", 20}, {"command_timeout_s", 10.0}}},
+                                {"telemetry", {{"timeout_s", 30.0}}},  // online across the measurements
+                                {"api", {{"socket", socket.string()}}},
+                                {"log", {{"level", "warn"}}}}
+                               .dump(2)
+                        << "\n";
+  PtyEndpoint line(link);
+  ChildProgram daemon("wheeltecd", {s.wheeltecd, "--config", config.string(), "--serial", link.string()}, dir);
+  daemon.wait_for_socket(socket);
+  bring_ready(line, socket, daemon);
+
+  std::cerr << "bench: wheeltecd on " << line.slave_path() << ": drive -> command frame\n";
+  line.drain();
+  const CommandLatency commands =
+      command_latency(socket, s.commands, 100, [&](int mm_per_s) { return line.await_command(mm_per_s, 1000); });
+  out["wheeltecd"]["command_latency"] = summarize(commands.total).to_json();
+
+  std::cerr << "bench: wheeltecd on " << line.slave_path() << ": record -> notification\n";
+  const TelemetryLatency telemetry = telemetry_latency(socket, 1, s.records, [&](int n) {
+    const wheeltec::RecordBytes bytes = wheeltec::encode_record(bench_record(n));
+    line.write(std::span(bytes).first(bytes.size() - 1));
+    const double start = now_us();
+    line.write(std::span(bytes).last(1));
+    return start;
+  });
+  out["wheeltecd"]["telemetry_latency_1"] = telemetry.all.to_json();
+  out["wheeltecd"]["telemetry_latency_1"]["lost"] = telemetry.lost;
+  out["wheeltecd"]["status"] = call(socket, "status");
+  out["wheeltecd"]["stats"] = call(socket, "stats");
+  daemon.terminate();
+
+  const LatencySummary command = summarize(commands.total);
+  std::string t = "| serial link on a pseudo-terminal (native) | wheeltecd p50 / p99 (us) | pty floor p50 / p99 (us) |\n"
+                  "|---|---|---|\n";
+  t += fmt::format("| drive -> command frame read on the master, n={} | {} | 11 bytes slave -> master: {} |\n",
+                   command.count, p50_p99(command), p50_p99(floor_out));
+  t += fmt::format("| record's last byte -> notification, 1 subscriber, n={} (lost {}) | {} | 24 bytes master -> slave: {} |\n",
+                   telemetry.all.count, telemetry.lost, p50_p99(telemetry.all), p50_p99(floor_in));
+  std::cout << t;
+  out["table_markdown"] = t;
+  if (!s.json_path.empty()) std::ofstream(s.json_path) << out.dump(2) << "\n";
+  fs::remove_all(dir);
+  return 0;
+}
+
+}  // namespace
+}  // namespace bench
+
+int main(int argc, char** argv) {
+  try {
+    return bench::run(bench::Options(argc, argv));
+  } catch (const std::exception& e) {
+    std::cerr << "wheeltec-bench-serial: " << e.what() << "\n";
+    return 1;
+  }
+}
