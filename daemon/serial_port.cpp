@@ -3,6 +3,8 @@
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -17,6 +19,18 @@ namespace wheeltec::daemon {
 namespace {
 
 bool means_unplugged(int error) { return error == EIO || error == ENXIO || error == ENODEV; }
+
+// A pseudo-terminal (the emulator, socat, ser2net) keeps its exclusive flag for as long as
+// its master lives, past our close: a daemon restarted after a crash, without
+// CAP_SYS_ADMIN, could not open it again and send its zero frame. There flock alone
+// keeps a second program off the port.
+bool is_pseudo_terminal(int fd) {
+  constexpr unsigned kFirstPtyMajor = 136;  // UNIX98_PTY_SLAVE_MAJOR, 8 majors
+  struct stat device {};
+  if (::fstat(fd, &device) != 0 || !S_ISCHR(device.st_mode)) return false;
+  const unsigned major_number = major(device.st_rdev);
+  return major_number >= kFirstPtyMajor && major_number < kFirstPtyMajor + 8;
+}
 
 }  // namespace
 
@@ -66,7 +80,7 @@ bool SerialPort::try_open() {
     if (errno == EWOULDBLOCK) return fail(DownCause::busy, "busy: another program has it locked (flock)");
     return fail(DownCause::open_failed, fmt::format("cannot lock: {}", std::strerror(errno)));
   }
-  if (::ioctl(fd, TIOCEXCL) != 0) {
+  if (!is_pseudo_terminal(fd) && ::ioctl(fd, TIOCEXCL) != 0) {
     return fail(DownCause::open_failed, fmt::format("not a serial port (TIOCEXCL: {})", std::strerror(errno)));
   }
   boost::system::error_code ec;
@@ -159,6 +173,7 @@ bool SerialPort::write(std::span<const std::uint8_t> frame) {
 void SerialPort::close_port() {
   if (!port_.is_open()) return;
   if (closing_handler_) closing_handler_();
+  ::ioctl(port_.native_handle(), TIOCNXCL);  // the next owner need not be privileged
   boost::system::error_code ignored;
   port_.close(ignored);
   ++generation_;

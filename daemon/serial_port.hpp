@@ -26,8 +26,8 @@ struct SerialPortCounters {
 };
 
 // The controller's serial port: opened raw, 8N1, no flow control, at `baud`; held
-// exclusively (flock(LOCK_EX|LOCK_NB), then TIOCEXCL) and written to only once both are
-// held. End of file, EIO, ENXIO or ENODEV (the adapter unplugged) closes it and reports
+// exclusively (flock(LOCK_EX|LOCK_NB), then TIOCEXCL but on a pseudo-terminal) and written
+// to only once it is held. End of file, EIO, ENXIO or ENODEV (the adapter unplugged) closes it and reports
 // it down; it is reopened when its path reappears (inotify on the directory) or on a
 // retry timer, whichever comes first.
 class SerialPort {

@@ -167,7 +167,9 @@ void StallSentinel::use_port(int fd) noexcept {
     std::memcpy(CMSG_DATA(c), &fd, sizeof(int));
   }
   if (::sendmsg(port_channel_, &message, MSG_DONTWAIT | MSG_NOSIGNAL) < 0) {
-    spdlog::warn("stall sentinel: cannot hand over the serial port: {}", std::strerror(errno));
+    // EPIPE: the sentinel is gone already (a stop signal sent to the whole unit).
+    const auto level = errno == EPIPE ? spdlog::level::debug : spdlog::level::warn;
+    spdlog::log(level, "stall sentinel: cannot hand over the serial port: {}", std::strerror(errno));
   }
 }
 

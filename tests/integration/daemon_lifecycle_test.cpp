@@ -252,8 +252,15 @@ TEST_F(DaemonLifecycle, InjectedTelemetryIsDecodedAndValidated) {
   };
 
   send_group(record, {0x101, 0x102, 0x103});
-  std::this_thread::sleep_for(100ms);
-  const Json decoded = client.call("telemetry");
+  // Polled rather than slept for: a loaded machine may take a while to carry three frames.
+  Json answer = client.request("telemetry");
+  for (const auto deadline = std::chrono::steady_clock::now() + 2s;
+       answer.contains("error") && std::chrono::steady_clock::now() < deadline;) {
+    std::this_thread::sleep_for(20ms);
+    answer = client.request("telemetry");
+  }
+  ASSERT_TRUE(answer.contains("result")) << answer.dump();
+  const Json decoded = answer["result"];
   EXPECT_EQ(decoded["seq"], 1) << decoded.dump();
   EXPECT_EQ(decoded["stopped"], false) << decoded.dump();
   EXPECT_NEAR(decoded["velocity"]["vx"].get<double>(), 0.257, 1e-9) << decoded.dump();
