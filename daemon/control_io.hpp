@@ -49,14 +49,22 @@ class ControlIo {
    public:
     SentinelGuard(StallSentinel::ZeroOutput output, double rate_hz)
         : sentinel_(std::move(output), StallSentinel::timing_for_rate(rate_hz)) {}
-    void start() override { sentinel_.start(); }
+    // The link may have opened its port before the sentinel existed: it gets it now.
+    void start() override {
+      sentinel_.start();
+      if (port_fd_ >= 0) sentinel_.use_port(port_fd_);
+    }
     void beat() override { sentinel_.beat(); }
     void disarm() override { sentinel_.disarm(); }
     void set_rate(double rate_hz) override { sentinel_.retime(StallSentinel::timing_for_rate(rate_hz)); }
-    void use_port(int fd) { sentinel_.use_port(fd); }
+    void use_port(int fd) {
+      port_fd_ = fd;
+      sentinel_.use_port(fd);
+    }
 
    private:
     StallSentinel sentinel_;
+    int port_fd_ = -1;  // the serial port as last handed over (-1: closed)
   };
 
   SteadyClock clock_;

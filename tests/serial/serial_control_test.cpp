@@ -1,5 +1,5 @@
 // The safety rules on the serial line (spec sections 2 and 8): the deadman, the zero frame on
-// SIGTERM, and the controller's boot phase.
+// SIGTERM, the stall sentinel's zero frame for a hung daemon, and the controller's boot phase.
 
 #include <gtest/gtest.h>
 
@@ -95,6 +95,30 @@ TEST_F(SerialControl, SigtermWritesZeroLastAndExitsZero) {
   bool zero_after_signal = false;
   for (std::size_t i = before_signal; i < frames.size(); ++i) zero_after_signal = zero_after_signal || frames[i].zero();
   EXPECT_TRUE(zero_after_signal) << "the zero frame came before SIGTERM only";
+}
+
+// A daemon that stops running (here SIGSTOP, as a hung event loop) sends nothing: its stall
+// sentinel writes the zero frame on the port in its place, through the port's descriptor.
+TEST_F(SerialControl, HungDaemonIsReplacedByTheSentinelsZeroFrame) {
+  fake_->start_telemetry();
+  SerialDaemon& daemon = start_daemon_up();
+  auto client = daemon.connect();
+  ASSERT_TRUE(wait_for_status(client, phase_is("ready"), 3s)) << logs();
+  const std::size_t from = fake_->command_count();
+  ASSERT_TRUE(client.request("drive", {{"vx", 0.3}}).contains("result"));
+  ASSERT_TRUE(fake_->wait_command([](const CommandSeen& f) { return f.x == 300; }, 500ms, from));
+
+  daemon.process().send_signal(SIGSTOP);
+  const auto stopped = SteadyClock::now();
+  const std::size_t at_stop = fake_->command_count();
+  const auto zero = fake_->wait_command([](const CommandSeen& f) { return f.zero(); }, 3s, at_stop);
+  daemon.process().send_signal(SIGCONT);
+  ASSERT_TRUE(zero) << "no zero frame on the port within 3 s of the daemon hanging\n" << logs();
+  const double after = std::chrono::duration<double>(zero->time - stopped).count();
+  std::printf("[ figure ] sentinel's zero frame %.3f s after the daemon stopped\n", after);
+  EXPECT_LT(after, 1.0) << "a hung daemon's chassis must be told zero within 1 s";
+  for (const CommandSeen& frame : fake_->commands()) EXPECT_TRUE(frame.well_formed) << frame.text();
+  client.call("stop");
 }
 
 TEST_F(SerialControl, BootPhaseRefusesDriveWithItsPhase) {
