@@ -1,8 +1,9 @@
 // Drives Debian's headless Chromium through its DevTools protocol (over the `ws` package)
-// for tests/web/live_test.cpp: waits until wheeltec-web's page shows live telemetry, takes
+// for tests/web/page_test.cpp: waits until wheeltec-web's page shows live telemetry, takes
 // a screenshot, holds the Up arrow key (the joystick) for HOLD_MS, then closes the page.
 //   node browser.cjs DEVTOOLS_PORT SCREENSHOT.png HOLD_MS
-// Prints JSON lines: {"event":"live",...}, {"event":"driving"}, {"event":"closed"}; exit 0 on success.
+// Prints JSON lines: {"event":"live",...}, {"event":"driving"}, {"event":"closed"}; exit 0 on
+// success. Its progress goes to stderr.
 'use strict';
 const fs = require('fs');
 const { openPage, sleep } = require('./devtools.cjs');
@@ -10,11 +11,14 @@ const { openPage, sleep } = require('./devtools.cjs');
 const [port, screenshot, holdMs] = process.argv.slice(2);
 const say = (object) => console.log(JSON.stringify(object));
 function fail(why) { say({ event: 'failed', why }); process.exit(1); }
-setTimeout(() => fail('timed out'), 100000).unref();  // Chromium in User-Mode Linux beside a CI run is slow
+setTimeout(() => fail('timed out'), 50000).unref();
 
 async function main() {
+  const started = Date.now();
+  const progress = (what) => console.error(`${((Date.now() - started) / 1000).toFixed(1)} s: ${what}`);
   const page = await openPage(port, 150);
   if (!page) fail('no page target in chromium');
+  progress('page target open');
   const { call, evaluate } = page;
 
   const readDom = `(() => { const t = (id) => document.getElementById(id).textContent;
@@ -22,9 +26,10 @@ async function main() {
              online: t('online'), velocity: t('velocity'), battery: t('battery'), connection: t('connection'),
              mode: t('mode'), plots: document.querySelectorAll('#plots canvas').length }; })()`;
   let dom = null;
-  for (let i = 0; i < 300; ++i) {
+  for (let i = 0; i < 150; ++i) {
     dom = await evaluate(readDom);
     if (dom && dom.live && dom.records > 100 && dom.bus.includes('up')) break;  // 2 s of plots at 50 Hz
+    if (i % 25 === 0) progress(`waiting for live data: ${JSON.stringify(dom)} at ${await evaluate('location.href')}`);
     await sleep(200);
   }
   if (!dom || !dom.live) fail(`the page shows no live data: ${JSON.stringify(dom)}`);

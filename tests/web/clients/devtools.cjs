@@ -1,4 +1,4 @@
-// Headless Chromium's DevTools protocol over the `ws` package, for browser.cjs (the web.Live
+// Headless Chromium's DevTools protocol over the `ws` package, for browser.cjs (the web.Page
 // test) and bench/web/web_bench.cjs: the first page target of a Chromium started with
 // --remote-debugging-port, and calls on it.
 'use strict';
