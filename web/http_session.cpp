@@ -2,6 +2,7 @@
 
 #include <array>
 
+#include <boost/asio/ssl/error.hpp>
 #include <boost/beast/http/error.hpp>
 #include <boost/beast/http/read.hpp>
 #include <boost/beast/http/write.hpp>
@@ -50,8 +51,8 @@ std::optional<std::string_view> header(const http::request<http::string_body>& r
 
 }  // namespace
 
-HttpSession::HttpSession(Server& server, boost::asio::ip::tcp::socket socket, std::shared_ptr<std::size_t> connections)
-    : server_(server), stream_(std::move(socket)), connections_(std::move(connections)) {
+HttpSession::HttpSession(Server& server, WebStream stream, std::shared_ptr<std::size_t> connections)
+    : server_(server), stream_(std::move(stream)), connections_(std::move(connections)) {
   ++*connections_;
 }
 
@@ -61,12 +62,13 @@ void HttpSession::read() {
   parser_.emplace();
   parser_->header_limit(kHeaderLimit);
   parser_->body_limit(kBodyLimit);
-  stream_.expires_after(kRequestTimeout);
+  stream_.tcp().expires_after(kRequestTimeout);
   http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
     if (ec == http::error::end_of_stream || ec == beast::error::timeout || ec == boost::asio::error::operation_aborted ||
-        ec == boost::asio::error::connection_reset || ec == boost::asio::error::eof) {
+        ec == boost::asio::error::connection_reset || ec == boost::asio::error::eof ||
+        ec == boost::asio::ssl::error::stream_truncated) {
       boost::system::error_code ignored;
-      self->stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
+      self->stream_.tcp().socket().shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
       return;
     }
     if (ec == http::error::header_limit) {
@@ -126,7 +128,7 @@ void HttpSession::upgrade(Request request) {
   const bool token_ok = server_.token_matches(token);
   if (token && !token_ok) return respond_text(http::status::unauthorized, "wrong token", false);
   boost::system::error_code ec;
-  const auto peer = stream_.socket().remote_endpoint(ec);
+  const auto peer = stream_.tcp().socket().remote_endpoint(ec);
   const bool trusted_local =
       server_.config().trust_localhost && !ec && peer.address().is_loopback() && is_loopback_host(host);
   const bool may_drive = token_ok || trusted_local;
@@ -134,7 +136,7 @@ void HttpSession::upgrade(Request request) {
     return respond_text(http::status::service_unavailable,
                         fmt::format("too many viewers (max_clients {})", server_.config().max_clients), false);
   }
-  stream_.expires_never();
+  stream_.tcp().expires_never();
   auto viewer = std::make_shared<Viewer>(server_, std::move(stream_), may_drive, server_.next_session_id());
   server_.add_viewer(viewer);
   viewer->start(std::move(request));
@@ -180,11 +182,11 @@ void HttpSession::respond(http::status status, std::string content_type, std::st
   response->body() = std::move(body);
   response->keep_alive(keep_alive);
   response->prepare_payload();
-  stream_.expires_after(kRequestTimeout);
+  stream_.tcp().expires_after(kRequestTimeout);
   http::async_write(stream_, *response, [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
     if (ec || !response->keep_alive()) {
       boost::system::error_code ignored;
-      self->stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
+      self->stream_.tcp().socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
       return;
     }
     self->read();

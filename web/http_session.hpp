@@ -1,6 +1,6 @@
 #pragma once
 
-// One HTTP connection: reads requests with Beast's parser under size limits and a timeout,
+// One HTTP connection (plain or, after TlsHandshake, over TLS): reads requests with Beast's parser under size limits and a timeout,
 // answers the page, /api/status, /api/stats and /api/stop, and hands WebSocket upgrades that pass the
 // checks (path, subprotocol, Origin, token, viewer limit) to a Viewer.
 
@@ -9,10 +9,11 @@
 #include <string>
 
 #include <boost/beast/core/flat_buffer.hpp>
-#include <boost/beast/core/tcp_stream.hpp>
 #include <boost/beast/http/parser.hpp>
 #include <boost/beast/http/status.hpp>
 #include <boost/beast/http/string_body.hpp>
+
+#include "web_stream.hpp"
 
 namespace wheeltec::web {
 
@@ -23,7 +24,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   // `connections` is the server's count of open connections, decremented by the destructor
   // (which never touches the server itself).
-  HttpSession(Server& server, boost::asio::ip::tcp::socket socket, std::shared_ptr<std::size_t> connections);
+  HttpSession(Server& server, WebStream stream, std::shared_ptr<std::size_t> connections);
   ~HttpSession();
 
   void start() { read(); }
@@ -42,7 +43,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void respond_text(boost::beast::http::status status, std::string text, bool keep_alive, std::string_view allow = {});
 
   Server& server_;
-  boost::beast::tcp_stream stream_;
+  WebStream stream_;
   boost::beast::flat_buffer buffer_;
   std::optional<boost::beast::http::request_parser<boost::beast::http::string_body>> parser_;
   std::shared_ptr<std::size_t> connections_;

@@ -4,6 +4,7 @@
 
 #include <csignal>
 #include <exception>
+#include <functional>
 #include <filesystem>
 #include <iostream>
 #include <variant>
@@ -15,6 +16,7 @@
 #include "options.hpp"
 #include "server.hpp"
 #include "static_files.hpp"
+#include "tls_context.hpp"
 #include "wheeltec/service/logging.hpp"
 
 #ifndef WHEELTEC_WEB_PAGE_DIR
@@ -47,9 +49,11 @@ int main(int argc, char** argv) {
 
   WebConfig config;
   std::optional<std::string> token;
+  std::shared_ptr<boost::asio::ssl::context> tls;
   try {
     config = load_config(options);
     if (config.token_file) token = read_token(*config.token_file);
+    if (config.tls.cert && config.tls.key) tls = load_tls_context({*config.tls.cert, *config.tls.key});
   } catch (const wheeltec::ConfigError& error) {
     std::cerr << "wheeltec-web: " << error.what() << "\n";
     return 2;
@@ -60,14 +64,21 @@ int main(int argc, char** argv) {
   try {
     StaticFiles files = StaticFiles::load(config.page_dir, config.javascript_dir);
     boost::asio::io_context io{1};
-    Server server(io, std::move(config), std::move(token), std::move(files));
-    boost::asio::signal_set signals(io, SIGTERM, SIGINT);
-    signals.async_wait([&](boost::system::error_code ec, int signal) {
-      if (ec) return;
-      spdlog::info("signal {}: stopping", signal);
-      server.stop();
-      io.stop();
-    });
+    Server server(io, std::move(config), std::move(token), std::move(files), std::move(tls));
+    boost::asio::signal_set signals(io, SIGTERM, SIGINT, SIGHUP);
+    std::function<void()> wait_for_signal = [&] {
+      signals.async_wait([&](boost::system::error_code ec, int signal) {
+        if (ec) return;
+        if (signal == SIGHUP) {
+          server.reload_tls();
+          return wait_for_signal();
+        }
+        spdlog::info("signal {}: stopping", signal);
+        server.stop();
+        io.stop();
+      });
+    };
+    wait_for_signal();
     server.start();
     io.run();
     return 0;

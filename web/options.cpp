@@ -29,6 +29,11 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
       ->type_name("ORIGIN");
   app.add_option("--page-dir", options.page_dir, "Directory of the page's files, default the installed ones")
       ->type_name("DIR");
+  app.add_option("--tls-cert", options.tls_cert,
+                 "Certificate (PEM, with its intermediates) to serve https:// and wss:// only; needs --tls-key")
+      ->type_name("FILE");
+  app.add_option("--tls-key", options.tls_key, "The certificate's private key (PEM, not readable by others)")
+      ->type_name("FILE");
   command_line::add_log_level_option(app, options.log_level);
   if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
   return options;
@@ -52,6 +57,8 @@ WebConfig load_config(const Options& options) {
     if (options.token_file) config.token_file = *options.token_file;
     for (const auto& origin : options.allow_origins) config.allow_origins.push_back(origin);
     if (options.page_dir) config.page_dir = *options.page_dir;
+    if (options.tls_cert) config.tls.cert = *options.tls_cert;
+    if (options.tls_key) config.tls.key = *options.tls_key;
     if (options.log_level) config.log.level = *options.log_level;
     validate_web_config(config);
   } catch (const ConfigError& error) {

@@ -19,6 +19,8 @@ struct Options {
   std::optional<std::string> token_file;
   std::vector<std::string> allow_origins;
   std::optional<std::string> page_dir;
+  std::optional<std::string> tls_cert;
+  std::optional<std::string> tls_key;
   std::optional<std::string> log_level;
 };
 

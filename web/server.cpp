@@ -9,6 +9,8 @@
 #include "access.hpp"
 #include "foxglove.hpp"
 #include "http_session.hpp"
+#include "tls_context.hpp"
+#include "tls_handshake.hpp"
 #include "viewer.hpp"
 
 namespace wheeltec::web {
@@ -28,11 +30,13 @@ std::uint64_t now_ns() {
 
 }  // namespace
 
-Server::Server(boost::asio::io_context& io, WebConfig config, std::optional<std::string> token, StaticFiles files)
+Server::Server(boost::asio::io_context& io, WebConfig config, std::optional<std::string> token, StaticFiles files,
+               std::shared_ptr<boost::asio::ssl::context> tls)
     : io_(io),
       config_(std::move(config)),
       token_(std::move(token)),
       files_(std::move(files)),
+      tls_(std::move(tls)),
       acceptor_(io, endpoint_of(config_.listen)),
       daemon_(io.get_executor(), config_.socket) {
   daemon_.on_telemetry([this](const client::Telemetry& record) { handle_telemetry(record); });
@@ -46,10 +50,23 @@ Server::~Server() = default;
 boost::asio::ip::tcp::endpoint Server::local_endpoint() const { return acceptor_.local_endpoint(); }
 
 void Server::start() {
-  spdlog::info("serving on http://{}:{}/, wheeltecd at {}, driving {}", config_.listen.address, local_endpoint().port(),
-               config_.socket, token_ ? "with the token" : "disabled (no --token-file)");
+  spdlog::info("serving on {}://{}:{}/, wheeltecd at {}, driving {}", tls_ ? "https" : "http", config_.listen.address,
+               local_endpoint().port(), config_.socket, token_ ? "with the token" : "disabled (no --token-file)");
   accept();
   daemon_.start();
+}
+
+void Server::reload_tls() {
+  if (!tls_ || !config_.tls.cert || !config_.tls.key) {
+    spdlog::info("SIGHUP: no TLS certificate to reload (plain HTTP)");
+    return;
+  }
+  try {
+    tls_ = load_tls_context({*config_.tls.cert, *config_.tls.key});
+    spdlog::info("SIGHUP: reloaded {} and {} for new connections", *config_.tls.cert, *config_.tls.key);
+  } catch (const ConfigError& error) {
+    spdlog::error("SIGHUP: {}; the certificate loaded before stays in use", error.what());
+  }
 }
 
 void Server::stop() {
@@ -87,7 +104,12 @@ void Server::accept() {
       socket.close(ignored);
     } else {
       socket.set_option(boost::asio::ip::tcp::no_delay(true), ec);
-      std::make_shared<HttpSession>(*this, std::move(socket), connections_)->start();
+      if (tls_) {
+        std::make_shared<TlsHandshake>(*this, std::move(socket), tls_, connections_)->start();
+      } else {
+        std::make_shared<HttpSession>(*this, WebStream(boost::beast::tcp_stream(std::move(socket))), connections_)
+            ->start();
+      }
     }
     accept();
   });

@@ -12,6 +12,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl/context.hpp>
 
 #include "wheeltec/client/subscription.hpp"
 
@@ -25,11 +26,16 @@ class Viewer;
 class Server {
  public:
   // Binds at once; throws boost::system::system_error when the address cannot be bound.
-  Server(boost::asio::io_context& io, WebConfig config, std::optional<std::string> token, StaticFiles files);
+  // With `tls` (from config.tls) every connection is TLS.
+  Server(boost::asio::io_context& io, WebConfig config, std::optional<std::string> token, StaticFiles files,
+         std::shared_ptr<boost::asio::ssl::context> tls = nullptr);
   ~Server();
 
   void start();
   void stop();
+  // SIGHUP: the certificate and key files again, for the connections that follow; a pair
+  // that does not load is logged and the one in use kept.
+  void reload_tls();
   boost::asio::ip::tcp::endpoint local_endpoint() const;
 
   // --- for the sessions ---
@@ -60,6 +66,7 @@ class Server {
   WebConfig config_;
   std::optional<std::string> token_;
   StaticFiles files_;
+  std::shared_ptr<boost::asio::ssl::context> tls_;
   boost::asio::ip::tcp::acceptor acceptor_;
   client::Subscription daemon_;
   std::set<std::shared_ptr<Viewer>> viewers_;

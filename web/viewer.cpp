@@ -31,7 +31,7 @@ std::string refusal_text(boost::system::error_code ec, const client::Json& error
 
 }  // namespace
 
-Viewer::Viewer(Server& server, beast::tcp_stream stream, bool may_drive, std::string id)
+Viewer::Viewer(Server& server, WebStream stream, bool may_drive, std::string id)
     : server_(server),
       ws_(std::move(stream)),
       may_drive_(may_drive),
@@ -39,7 +39,7 @@ Viewer::Viewer(Server& server, beast::tcp_stream stream, bool may_drive, std::st
       queue_(SendQueue::Limits{static_cast<std::size_t>(server.config().queue_limit), 256,
                                std::chrono::milliseconds(static_cast<long long>(server.config().stall_timeout_s * 1000))}) {
   boost::system::error_code ec;
-  const auto endpoint = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
+  const auto endpoint = ws_.next_layer().tcp().socket().remote_endpoint(ec);
   peer_ = ec ? "?" : fmt::format("{}:{}", endpoint.address().to_string(), endpoint.port());
 }
 
@@ -247,8 +247,8 @@ void Viewer::close(std::string_view reason) {
   spdlog::info("viewer {} ({}) {}", id_, peer_, reason);
   drive_.reset();  // the daemon releases control at once if this viewer held it
   boost::system::error_code ignored;
-  beast::get_lowest_layer(ws_).socket().shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
-  beast::get_lowest_layer(ws_).socket().close(ignored);
+  ws_.next_layer().tcp().socket().shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
+  ws_.next_layer().tcp().socket().close(ignored);
   server_.remove_viewer(this);
 }
 
@@ -257,7 +257,7 @@ void Viewer::shutdown() {
   closed_ = true;
   drive_.reset();
   boost::system::error_code ignored;
-  beast::get_lowest_layer(ws_).socket().close(ignored);
+  ws_.next_layer().tcp().socket().close(ignored);
 }
 
 }  // namespace wheeltec::web

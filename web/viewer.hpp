@@ -11,7 +11,6 @@
 #include <string>
 
 #include <boost/beast/core/flat_buffer.hpp>
-#include <boost/beast/core/tcp_stream.hpp>
 #include <boost/beast/http/message.hpp>
 #include <boost/beast/http/string_body.hpp>
 #include <boost/beast/websocket/stream.hpp>
@@ -19,6 +18,7 @@
 #include "drive_link.hpp"
 #include "foxglove.hpp"
 #include "send_queue.hpp"
+#include "web_stream.hpp"
 
 namespace wheeltec::web {
 
@@ -27,7 +27,7 @@ class Server;
 class Viewer : public std::enable_shared_from_this<Viewer> {
  public:
   // The destructor never touches the server: it may outlive it in the io_context's queue.
-  Viewer(Server& server, boost::beast::tcp_stream stream, bool may_drive, std::string id);
+  Viewer(Server& server, WebStream stream, bool may_drive, std::string id);
   ~Viewer();
 
   // Completes the WebSocket handshake for `request` (already checked) and starts the session.
@@ -52,7 +52,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   void close(std::string_view reason);
 
   Server& server_;
-  boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+  boost::beast::websocket::stream<WebStream> ws_;
   bool may_drive_;
   std::string id_;
   std::string peer_;

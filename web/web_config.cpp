@@ -59,6 +59,19 @@ void apply_web_config(const json& document, WebConfig& config) {
       config.page_dir = text(value, key);
     } else if (key == "javascript_dir") {
       config.javascript_dir = text(value, key);
+    } else if (key == "tls") {
+      if (!value.is_object()) fail(key, "expected an object, got " + std::string(value.type_name()));
+      for (const auto& [tls_key, tls_value] : value.items()) {
+        const std::string path = "tls." + tls_key;
+        std::optional<std::string> file = tls_value.is_null() ? std::nullopt : std::optional(text(tls_value, path));
+        if (tls_key == "cert") {
+          config.tls.cert = std::move(file);
+        } else if (tls_key == "key") {
+          config.tls.key = std::move(file);
+        } else {
+          fail(path, "unknown key");
+        }
+      }
     } else if (key == "log") {
       if (!value.is_object()) fail(key, "expected an object, got " + std::string(value.type_name()));
       for (const auto& [log_key, log_value] : value.items()) {
@@ -85,6 +98,13 @@ void validate_web_config(const WebConfig& config) {
     fail("log.level", fmt::format("must be one of trace, debug, info, warn, error, got \"{}\"", config.log.level));
   }
   if (config.max_clients < 1) fail("max_clients", "must be at least 1");
+  if (config.tls.cert.has_value() != config.tls.key.has_value()) {
+    fail(config.tls.cert ? "tls.key" : "tls.cert",
+         "tls.cert (--tls-cert) and tls.key (--tls-key) go together: give both or neither");
+  }
+  if ((config.tls.cert && config.tls.cert->empty()) || (config.tls.key && config.tls.key->empty())) {
+    fail(config.tls.cert->empty() ? "tls.cert" : "tls.key", "must not be empty");
+  }
 }
 
 }  // namespace wheeltec::web

@@ -30,6 +30,11 @@ struct WebConfig {
   std::string page_dir;                   // the page's files; empty: the installed ones
   double low_battery_v = 10.8;            // the page's low-battery line (wheeltecd's telemetry.low_battery_v)
   std::string javascript_dir = "/usr/share/javascript";  // Debian's JavaScript libraries
+  // Both or neither: with them the server speaks only TLS (https://, wss://).
+  struct Tls {
+    std::optional<std::string> cert;  // PEM certificate (chain) file
+    std::optional<std::string> key;   // PEM private key file, not readable by others
+  } tls;
   struct Log {
     std::string level = "info";
   } log;

@@ -7,7 +7,7 @@
 readonly WHEELTEC_BUILD_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libboost-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libcli11-dev libsystemd-dev
-  libmosquitto-dev
+  libmosquitto-dev libssl-dev
 )
 # What running them on a virtual CAN interface needs (the demo and the vcan tests):
 # scripts/vcan-run, natively or inside User-Mode Linux.

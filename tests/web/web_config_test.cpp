@@ -53,6 +53,25 @@ TEST(WebConfig, NamesTheKeyOfAnError) {
   EXPECT_EQ(key_of_error(R"({"log":{"lvl":"info"}})"), "log.lvl");
   EXPECT_EQ(key_of_error(R"({"stall_timeout_s":0})"), "stall_timeout_s");
   EXPECT_EQ(key_of_error(R"({"trust_localhost":"yes"})"), "trust_localhost");
+  EXPECT_EQ(key_of_error(R"({"tls":{"cert":"/c"}})"), "tls.key");  // one without the other
+  EXPECT_EQ(key_of_error(R"({"tls":{"key":"/k"}})"), "tls.cert");
+  EXPECT_EQ(key_of_error(R"({"tls":{"cert":"/c","key":""}})"), "tls.key");
+  EXPECT_EQ(key_of_error(R"({"tls":{"cert":"/c","key":"/k","ca":"/a"}})"), "tls.ca");
+  EXPECT_EQ(key_of_error(R"({"tls":{"cert":1,"key":"/k"}})"), "tls.cert");
+  EXPECT_EQ(key_of_error(R"({"tls":"/c"})"), "tls");
+}
+
+TEST(WebConfig, TlsTakesACertificateAndItsKeyTogether) {
+  WebConfig config;
+  EXPECT_FALSE(config.tls.cert);  // plain HTTP unless configured
+  apply_web_config(nlohmann::json::parse(R"({"tls":{"cert":"/etc/wheeltec-web/cert.pem","key":"/etc/wheeltec-web/key.pem"}})"),
+                   config);
+  EXPECT_NO_THROW(validate_web_config(config));
+  EXPECT_EQ(config.tls.cert, "/etc/wheeltec-web/cert.pem");
+  EXPECT_EQ(config.tls.key, "/etc/wheeltec-web/key.pem");
+  apply_web_config(nlohmann::json::parse(R"({"tls":{"cert":null,"key":null}})"), config);
+  EXPECT_NO_THROW(validate_web_config(config));
+  EXPECT_FALSE(config.tls.cert);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Clients of wheeltec-web for its integration tests (tests/web/live_test.cpp): a Foxglove
 // client from npm (@foxglove/ws-protocol over the `ws` package), and hostile ones.
-//   node foxglove_client.cjs MODE URL [TOKEN]
+//   node foxglove_client.cjs MODE URL [TOKEN]      (watch: MODE URL SECONDS)
+// Over wss:// it trusts the CA in $NODE_EXTRA_CA_CERTS.
 // Prints one JSON line with what it saw; exit 0 when the expectation of MODE held, 1 if not.
 'use strict';
 const net = require('net');
@@ -99,7 +100,7 @@ function upgrade(u, options) {
 async function origins() {
   const host = new URL(url).host;
   result.foreign = await upgrade(url, { origin: 'http://evil.example' });
-  result.own = await upgrade(url, { origin: `http://${host}` });
+  result.own = await upgrade(url, { origin: `${url.startsWith('wss:') ? 'https' : 'http'}://${host}` });
   result.allowed = await upgrade(url, { origin: 'https://app.foxglove.dev' });
   result.none = await upgrade(url, {});
   result.wrong_token = await upgrade(`${url}?token=wrong`, {});
@@ -179,6 +180,24 @@ async function neverReads() {
   done(closed && steady, !closed ? 'the reader-less client was not disconnected' : steady ? undefined : 'stalled');
 }
 
+// Stays subscribed to telemetry for SECONDS (the third argument) and counts what arrives each
+// second: the connection must stay open and keep receiving (across a SIGHUP, say).
+async function watch() {
+  const seconds = Number(token || 5);
+  const { client, channels, ws } = await foxglove(url);
+  let count = 0, closed = false;
+  ws.on('close', () => { closed = true; });
+  client.subscribe(channels.get('/wheeltec/telemetry').id);
+  client.on('message', () => ++count);
+  const counts = [];
+  for (let i = 0; i < seconds; ++i) { await sleep(1000); counts.push(count); }
+  result.counts = counts;
+  result.closed = closed;
+  const steady = counts.every((c, i) => c > (i ? counts[i - 1] : 0));
+  client.close();
+  done(!closed && steady, closed ? 'the connection closed' : steady ? undefined : 'a second without telemetry');
+}
+
 // Two viewers with the token: the first drives, the second is refused by the daemon (-32001),
 // because each viewer drives through a daemon connection of its own.
 async function secondDriver() {
@@ -198,6 +217,6 @@ async function secondDriver() {
   done(result.first.length === 0 && result.second.some((m) => m.includes('-32001')));
 }
 
-const modes = { 'second-driver': secondDriver, live, drive: live, 'read-only': readOnly, origins, malformed, oversized, 'never-reads': neverReads };
+const modes = { watch, 'second-driver': secondDriver, live, drive: live, 'read-only': readOnly, origins, malformed, oversized, 'never-reads': neverReads };
 if (!modes[mode]) done(false, `unknown mode ${mode}`);
 modes[mode]().catch((error) => done(false, String(error && error.stack || error)));

@@ -1,0 +1,118 @@
+#include "serial_web.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <stdexcept>
+#include <thread>
+
+namespace web_tests {
+
+bool accepts_connections(int port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const bool connected = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
+  ::close(fd);
+  return connected;
+}
+
+namespace {
+
+std::string run_shell(const std::string& script, const std::filesystem::path& directory) {
+  const auto done = integration::run_program("/bin/sh", {"-ec", script}, directory, 30s);
+  if (!done.status.exited_with(0)) {
+    throw std::runtime_error("openssl failed: " + done.status.describe() + "\n" + script + "\n" + done.err);
+  }
+  return done.out;
+}
+
+}  // namespace
+
+TestCertificates make_test_certificates(const std::filesystem::path& directory) {
+  const std::filesystem::path dir = directory / "tls";
+  std::filesystem::create_directories(dir);
+  TestCertificates made{dir / "ca.pem", dir / "server.pem", dir / "server.key", dir / "renewed.pem",
+                        dir / "renewed.key", ""};
+  run_shell(
+      "cd '" + dir.string() +
+          "'\n"
+          "umask 077\n"
+          "openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -keyout ca.key -out ca.pem -days 2 "
+          "  -subj '/CN=wheeltec test CA' 2>/dev/null\n"
+          "printf 'subjectAltName=IP:127.0.0.1,DNS:localhost\\n' > san.ext\n"
+          "for name in server renewed; do\n"
+          "  openssl req -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -keyout $name.key -out $name.csr "
+          "    -subj \"/CN=$name\" 2>/dev/null\n"
+          "  openssl x509 -req -in $name.csr -CA ca.pem -CAkey ca.key -CAcreateserial -days 2 -extfile san.ext "
+          "    -out $name.pem 2>/dev/null\n"
+          "done\n"
+          "chmod 0644 ca.pem server.pem renewed.pem\n",
+      directory);
+  made.spki_sha256 = run_shell("openssl x509 -in '" + made.cert.string() +
+                                   "' -pubkey -noout | openssl pkey -pubin -outform der | "
+                                   "openssl dgst -sha256 -binary | base64",
+                               directory);
+  while (!made.spki_sha256.empty() && std::isspace(static_cast<unsigned char>(made.spki_sha256.back()))) {
+    made.spki_sha256.pop_back();
+  }
+  return made;
+}
+
+void SerialWebTest::SetUp() {
+  SerialTest::SetUp();
+  fake_->start_telemetry(20ms);
+  serial_tests::SerialDaemon& daemon = start_daemon_up();
+  auto client = daemon.connect();
+  ASSERT_TRUE(serial_tests::wait_for_status(client, serial_tests::phase_is("ready"), 3s)) << logs();
+  token_file_ = directory_->path() / "token";
+  std::ofstream(token_file_) << kToken << "\n";
+  std::filesystem::permissions(token_file_,
+                               std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+}
+
+void SerialWebTest::TearDown() {
+  if (HasFailure()) std::cerr << web_logs();
+  web_.reset();
+  SerialTest::TearDown();
+}
+
+ChildProcess& SerialWebTest::start_web(int port, const std::vector<std::string>& extra) {
+  std::vector<std::string> arguments{"--socket",     daemons_.front()->socket_path().string(),
+                                     "--listen",     "127.0.0.1:" + std::to_string(port),
+                                     "--token-file", token_file_.string(),
+                                     "--page-dir",   WHEELTEC_WEB_PAGE_SOURCE};
+  arguments.insert(arguments.end(), extra.begin(), extra.end());
+  web_ = std::make_unique<ChildProcess>("wheeltec-web", WHEELTEC_WEB_PATH, arguments, directory_->path());
+  for (int i = 0; i < 100 && !accepts_connections(port); ++i) {
+    if (!web_->running()) break;
+    std::this_thread::sleep_for(50ms);
+  }
+  if (!accepts_connections(port)) {
+    throw std::runtime_error("wheeltec-web does not listen on " + std::to_string(port) + "\n" + web_logs());
+  }
+  return *web_;
+}
+
+nlohmann::json SerialWebTest::run_client(const std::string& mode, const std::string& url,
+                                         const std::vector<std::string>& extra,
+                                         const ChildProcess::Environment& environment) const {
+  std::vector<std::string> arguments = {WHEELTEC_WEB_CLIENTS "/foxglove_client.cjs", mode, url};
+  arguments.insert(arguments.end(), extra.begin(), extra.end());
+  ChildProcess::Environment env = {{"NODE_PATH", WHEELTEC_WEB_NODE_MODULES}};
+  env.insert(env.end(), environment.begin(), environment.end());
+  const auto done = integration::run_program("/usr/bin/node", arguments, directory_->path(), 40s, env);
+  const auto line_end = done.out.rfind('\n', done.out.size() >= 2 ? done.out.size() - 2 : 0);
+  const std::string last = done.out.substr(line_end == std::string::npos ? 0 : line_end + 1);
+  nlohmann::json result = nlohmann::json::parse(last, nullptr, false);
+  if (result.is_discarded()) result = nlohmann::json{{"ok", false}, {"output", done.describe()}};
+  result["exit"] = done.status.describe();
+  return result;
+}
+
+}  // namespace web_tests

@@ -1,0 +1,57 @@
+#pragma once
+
+// wheeltec-web in front of wheeltecd on the serial link, natively: the serial suite's fake
+// controller on a pseudo-terminal (50 records a second, every command frame recorded with its
+// arrival time), the daemon on it, and wheeltec-web started by each test with its own flags.
+// For the suites that need no vcan: the page in Chromium and TLS.
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "serial_daemon.hpp"
+
+namespace web_tests {
+
+using namespace std::chrono_literals;
+using integration::ChildProcess;
+using serial_tests::CommandSeen;
+using serial_tests::SteadyClock;
+
+inline constexpr const char* kToken = "s3cret-token";
+
+// Whether something accepts TCP connections on 127.0.0.1:port.
+bool accepts_connections(int port);
+
+// A test CA and server certificates it signed for 127.0.0.1 and localhost, made by openssl.
+struct TestCertificates {
+  std::filesystem::path ca;          // the CA's certificate: what clients trust
+  std::filesystem::path cert, key;   // the server's pair (key 0600)
+  std::filesystem::path cert2, key2; // a second pair from the same CA, for a renewal
+  // base64 of SHA-256 over the pair's public key, as Chromium's --ignore-certificate-errors-spki-list wants.
+  std::string spki_sha256;
+};
+TestCertificates make_test_certificates(const std::filesystem::path& directory);
+
+class SerialWebTest : public serial_tests::SerialTest {
+ protected:
+  void SetUp() override;
+  void TearDown() override;
+
+  // wheeltec-web on 127.0.0.1:port with the token file and the page's sources, plus `extra`
+  // flags; waits until it accepts connections.
+  ChildProcess& start_web(int port, const std::vector<std::string>& extra = {});
+  // Runs tests/web/clients/foxglove_client.cjs MODE URL [TOKEN]; its last JSON line (with "exit").
+  nlohmann::json run_client(const std::string& mode, const std::string& url, const std::vector<std::string>& extra = {},
+                            const ChildProcess::Environment& environment = {}) const;
+  std::string web_logs() const { return web_ ? web_->output_report() : std::string(); }
+
+  std::filesystem::path token_file_;
+  std::unique_ptr<ChildProcess> web_;
+};
+
+}  // namespace web_tests
