@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One benchmark session of wheeltec-web (scripts/bench-web.sh runs it in scripts/vcan-run):
-# wheeltec-emu, wheeltecd and wheeltec-web on vcan0, headless Chromium unless --no-browser,
+# wheeltec-emu, wheeltecd and wheeltec-web on vcan0 (plain, and a second one over TLS), headless Chromium unless --no-browser,
 # then bench/web/web_bench.cjs. Everything it starts ends with it.
 #   session.sh BUILD_DIR NODE_MODULES TELEMETRY_HZ SECONDS [--no-browser]
 set -euo pipefail
@@ -21,12 +21,23 @@ pids+=($!)
   --log-level warn >"$work/web.log" 2>&1 &
 web_pid=$!
 pids+=("$web_pid")
+# A second instance over TLS, with a self-signed certificate for 127.0.0.1 that node trusts.
+openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -days 1 -subj /CN=127.0.0.1 \
+  -addext subjectAltName=IP:127.0.0.1 -keyout "$work/key.pem" -out "$work/cert.pem" 2>/dev/null
+chmod 0600 "$work/key.pem"
+tls_port=$((port + 1))
+"$build/web/wheeltec-web" --socket "$work/wheeltecd.sock" --listen "127.0.0.1:$tls_port" --page-dir "$repo/web/page" \
+  --tls-cert "$work/cert.pem" --tls-key "$work/key.pem" --log-level warn >"$work/web-tls.log" 2>&1 &
+tls_web_pid=$!
+pids+=("$tls_web_pid")
 for _ in $(seq 100); do
-  curl -sf --max-time 1 "http://127.0.0.1:$port/api/status" 2>/dev/null | grep -q '"online":true' && break
+  curl -sf --max-time 1 "http://127.0.0.1:$port/api/status" 2>/dev/null | grep -q '"online":true' &&
+    curl -sf --max-time 1 --cacert "$work/cert.pem" "https://127.0.0.1:$tls_port/api/status" >/dev/null 2>&1 && break
   sleep 0.1
 done
 
-args=(--socket "$work/wheeltecd.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds")
+args=(--socket "$work/wheeltecd.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds"
+      --tls-url "https://127.0.0.1:$tls_port" --tls-web-pid "$tls_web_pid")
 if [[ $browser != --no-browser ]]; then
   mkdir -p "$work/home"
   HOME=$work/home /usr/bin/chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
@@ -35,4 +46,4 @@ if [[ $browser != --no-browser ]]; then
   pids+=($!)
   args+=(--devtools 9224)
 fi
-NODE_PATH=$node_modules node "$here/web_bench.cjs" "${args[@]}"
+NODE_PATH=$node_modules NODE_EXTRA_CA_CERTS=$work/cert.pem node "$here/web_bench.cjs" "${args[@]}"

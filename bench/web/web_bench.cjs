@@ -8,8 +8,11 @@
 //   3. with --devtools PORT (headless Chromium started with --remote-debugging-port and a
 //      blank page): the same latency at wheeltec-web's own page, measured in the page as
 //      its WebSocket delivers each telemetry message, next to the daemon's subscriber again.
+//   4. with --tls-url https://127.0.0.1:PORT2 --tls-web-pid PID2 (a second wheeltec-web with a
+//      certificate that $NODE_EXTRA_CA_CERTS trusts): round 1 and 2 again over wss://.
 //   node web_bench.cjs --socket PATH --url http://127.0.0.1:PORT --web-pid PID
 //                      [--viewers 8] [--seconds 20] [--devtools PORT]
+//                      [--tls-url https://127.0.0.1:PORT2 --tls-web-pid PID2]
 // Prints a table and, last, one JSON line with every figure.
 'use strict';
 const fs = require('fs');
@@ -138,11 +141,9 @@ async function browserLatencies(port, pageUrl, daemonLatencies) {
 
 const row = (name, s) => `| ${name} | ${s.n} | ${s.p50_ms?.toFixed(2)} | ${s.p99_ms?.toFixed(2)} | ${s.max_ms?.toFixed(2)} |`;
 
-async function main() {
-  setTimeout(() => fail('timed out'), (3 * seconds + 120) * 1000).unref();
-  const wsUrl = options.url.replace(/^http/, 'ws');
-  const result = { viewers, seconds };
-
+// One round: `viewers` Foxglove clients at wsUrl next to a direct subscriber of the daemon,
+// and the CPU the wheeltec-web process `pid` used meanwhile.
+async function foxgloveRound(wsUrl, pid) {
   const daemon = new Latencies();
   const foxglove = new Latencies();
   const daemonSocket = await daemonSubscriber(options.socket, daemon);
@@ -154,43 +155,65 @@ async function main() {
   counter.add = () => { if (counter.recording) ++records; };
   const counting = await daemonSubscriber(options.socket, counter);
   await sleep(500);
-  const cpuBefore = cpuSeconds(options.webPid);
+  const cpuBefore = cpuSeconds(pid);
   daemon.recording = foxglove.recording = counter.recording = true;
   await sleep(seconds * 1000);
   daemon.recording = foxglove.recording = counter.recording = false;
-  const cpu = cpuSeconds(options.webPid) - cpuBefore;
+  const cpu = cpuSeconds(pid) - cpuBefore;
   counting.destroy();
-  result.foxglove = { daemon: daemon.summary(), viewers: foxglove.summary() };
-  result.cpu = { records, cpu_s: cpu, us_per_record: records ? (cpu / records) * 1e6 : null,
-                 us_per_message: records ? (cpu / (records * viewers)) * 1e6 : null, tick_s: 0.01 };
-  result.memory = memoryKiB(options.webPid);
+  daemonSocket.destroy();
   for (const client of clients) client.close();
+  return {
+    daemon: daemon.summary(), viewers: foxglove.summary(),
+    cpu: { records, cpu_s: cpu, us_per_record: records ? (cpu / records) * 1e6 : null,
+           us_per_message: records ? (cpu / (records * viewers)) * 1e6 : null, tick_s: 0.01 },
+    memory: memoryKiB(pid),
+  };
+}
+
+const cpuLine = (what, cpu) => `wheeltec-web CPU with ${viewers} viewers${what}: ${cpu.cpu_s.toFixed(2)} s for ${cpu.records} ` +
+  `records = ${cpu.us_per_record?.toFixed(0)} us/record (${cpu.us_per_message?.toFixed(1)} us per message sent; 10 ms ticks)`;
+
+async function main() {
+  setTimeout(() => fail('timed out'), (4 * seconds + 240) * 1000).unref();  // Chromium in User-Mode Linux loads slowly
+  const result = { viewers, seconds };
+  const plain = await foxgloveRound(options.url.replace(/^http/, 'ws'), options.webPid);
+  result.foxglove = { daemon: plain.daemon, viewers: plain.viewers };
+  result.cpu = plain.cpu;
+  result.memory = plain.memory;
+  if (options.tlsUrl) {
+    // wss:// to a second wheeltec-web with a certificate ($NODE_EXTRA_CA_CERTS trusts it).
+    const tls = await foxgloveRound(options.tlsUrl.replace(/^https/, 'wss'), options.tlsWebPid);
+    result.tls = { daemon: tls.daemon, viewers: tls.viewers, cpu: tls.cpu, memory: tls.memory };
+  }
 
   if (options.devtools) {
     const daemonAgain = new Latencies();
-    daemonSocket.destroy();
     const again = await daemonSubscriber(options.socket, daemonAgain);
     const page = await browserLatencies(options.devtools, options.url + '/', daemonAgain);
     again.destroy();
     result.browser = { daemon: daemonAgain.summary(), page: page.summary() };
-  } else {
-    daemonSocket.destroy();
   }
 
   console.log('| 0x103 frame -> message | n | p50 ms | p99 ms | max ms |');
   console.log('|---|---|---|---|---|');
   console.log(row('wheeltecd subscriber (same run)', result.foxglove.daemon));
   console.log(row(`${viewers} Foxglove clients via wheeltec-web`, result.foxglove.viewers));
+  if (result.tls) {
+    console.log(row('wheeltecd subscriber (wss:// run)', result.tls.daemon));
+    console.log(row(`${viewers} Foxglove clients over wss://`, result.tls.viewers));
+  }
   if (result.browser) {
     console.log(row('wheeltecd subscriber (browser run)', result.browser.daemon));
     console.log(row('the page in headless Chromium', result.browser.page));
   }
-  console.log(`wheeltec-web CPU with ${viewers} viewers: ${cpu.toFixed(2)} s for ${records} records = ` +
-              `${result.cpu.us_per_record?.toFixed(0)} us/record (${result.cpu.us_per_message?.toFixed(1)} us per message sent; ` +
-              `10 ms ticks)`);
-  console.log(`wheeltec-web memory: RSS ${result.memory.rss_kib} KiB, peak ${result.memory.peak_rss_kib} KiB`);
+  console.log(cpuLine('', result.cpu));
+  if (result.tls) console.log(cpuLine(' over wss://', result.tls.cpu));
+  console.log(`wheeltec-web memory: RSS ${result.memory.rss_kib} KiB, peak ${result.memory.peak_rss_kib} KiB` +
+              (result.tls ? `; with TLS: RSS ${result.tls.memory.rss_kib} KiB, peak ${result.tls.memory.peak_rss_kib} KiB` : ''));
   console.log(JSON.stringify(result));
-  if (!result.foxglove.viewers.n || !result.foxglove.daemon.n || (result.browser && !result.browser.page.n)) {
+  if (!result.foxglove.viewers.n || !result.foxglove.daemon.n || (result.browser && !result.browser.page.n) ||
+      (result.tls && !result.tls.viewers.n)) {
     fail('some client received nothing');
   }
   process.exit(0);

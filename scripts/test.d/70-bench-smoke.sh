@@ -97,7 +97,7 @@ print(f"bench smoke: wheeltec-mqtt benchmark ran ({m['elapsed_s']:.0f} s inside 
 PY
 
 # The wheeltec-web benchmark's quick mode (about a minute): 8 Foxglove clients and the page in
-# headless Chromium must each have received records, and the CPU and memory figures be there.
+# headless Chromium, and 8 over wss://, must each have received records, and the CPU and memory figures be there.
 if [[ -x $BUILD_DIR/web/wheeltec-web ]]; then
   web_out=$(mktemp -d)
   if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$web_out "$REPO_ROOT/scripts/bench-web.sh" --quick >"$web_out/output.txt" 2>&1; then
@@ -111,11 +111,13 @@ import json, sys
 w = json.load(open(sys.argv[1]))
 figures = {"Foxglove messages": w["foxglove"]["viewers"]["n"], "daemon messages": w["foxglove"]["daemon"]["n"],
            "page messages": w["browser"]["page"]["n"], "records in the CPU window": w["cpu"]["records"],
+           "wss:// Foxglove messages": w["tls"]["viewers"]["n"],
            "RSS": w["memory"]["rss_kib"]}
 missing = [name for name, value in figures.items() if not value]
 if missing:
     sys.exit("bench smoke: wheeltec-web benchmark: no " + ", no ".join(missing))
-print(f"bench smoke: wheeltec-web benchmark ran ({w['foxglove']['viewers']['n']} Foxglove and "
+print(f"bench smoke: wheeltec-web benchmark ran ({w['foxglove']['viewers']['n']} Foxglove, "
+      f"{w['tls']['viewers']['n']} wss:// Foxglove and "
       f"{w['browser']['page']['n']} page messages timed)")
 PY
   rm -rf "$web_out"
