@@ -10,5 +10,6 @@ REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$REPO_ROOT/scripts/lib/setup.sh"
 
 install_dependencies
-WHEELTEC_BUILD_TESTS=OFF configure_and_build
+# The three programs the session runs, nothing else.
+WHEELTEC_BUILD_TESTS=OFF WHEELTEC_BUILD_BENCHMARKS=OFF configure_and_build wheeltecd wheeltecctl wheeltec-emu
 exec "$REPO_ROOT/scripts/vcan-run" -- "$REPO_ROOT/scripts/lib/demo-session.sh" "$BUILD_DIR"

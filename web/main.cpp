@@ -25,12 +25,18 @@
 
 namespace {
 
-// The installed page: PREFIX/share/wheeltec-web next to PREFIX/bin/wheeltec-web, whatever
-// the prefix (the .deb's /usr or cmake --install's); the configured path otherwise.
-std::string installed_page_dir() {
+// The page's files: the sources' when the program runs from its build directory; else the
+// installed ones, PREFIX/share/wheeltec-web next to PREFIX/bin/wheeltec-web whatever the
+// prefix (the .deb's /usr or cmake --install's); the configured path otherwise.
+std::string default_page_dir() {
   std::error_code error;
   const auto program = std::filesystem::read_symlink("/proc/self/exe", error);
   if (!error) {
+#ifdef WHEELTEC_WEB_BUILD_DIR
+    if (std::filesystem::equivalent(program.parent_path(), WHEELTEC_WEB_BUILD_DIR, error)) {
+      return WHEELTEC_WEB_SOURCE_PAGE_DIR;
+    }
+#endif
     const auto beside = program.parent_path().parent_path() / "share" / "wheeltec-web";
     if (std::filesystem::exists(beside / "index.html", error)) return beside.string();
   }
@@ -58,7 +64,7 @@ int main(int argc, char** argv) {
     std::cerr << "wheeltec-web: " << error.what() << "\n";
     return 2;
   }
-  if (config.page_dir.empty()) config.page_dir = installed_page_dir();
+  if (config.page_dir.empty()) config.page_dir = default_page_dir();
 
   wheeltec::service::setup_logging(config.log.level, "wheeltec-web");
   try {

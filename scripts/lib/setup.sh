@@ -68,13 +68,17 @@ install_dependencies() {
   install_packages "${packages[@]}"
 }
 
-# Configures a fresh build directory ($BUILD_DIR, default build/) and builds everything.
+# Configures a fresh build directory ($BUILD_DIR, default build/) and builds the given
+# targets, or everything when none are given.
 configure_and_build() {
   BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
   local build_type=${CMAKE_BUILD_TYPE:-RelWithDebInfo}
   local jobs=${BUILD_JOBS:-$(nproc 2>/dev/null || echo 2)}
+  local targets=()
+  (($# == 0)) || targets=(--target "$@")
   rm -rf -- "$BUILD_DIR"
   cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" \
-    -DWHEELTEC_BUILD_TESTS="${WHEELTEC_BUILD_TESTS:-ON}"
-  cmake --build "$BUILD_DIR" -j "$jobs"
+    -DWHEELTEC_BUILD_TESTS="${WHEELTEC_BUILD_TESTS:-ON}" \
+    -DWHEELTEC_BUILD_BENCHMARKS="${WHEELTEC_BUILD_BENCHMARKS:-ON}"
+  cmake --build "$BUILD_DIR" -j "$jobs" "${targets[@]}"
 }

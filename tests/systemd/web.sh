@@ -5,7 +5,9 @@
 # dygraphs, answers /api/status from the daemon's socket, and a Foxglove client with the
 # token drives through it as the user wheeltec, until the deadman ends it; stopping
 # wheeltecd stops it too (Requires=); a token file open to others is refused with exit 2,
-# without restarts.
+# without restarts. Over TLS (a pair made as docs/web.md says): https:// under the
+# hardening, 400 for plain HTTP, a wss:// client drives, `systemctl reload` serves a
+# renewed certificate, and a key file open to others is refused with exit 2.
 # shellcheck source=tests/systemd/lib.sh
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 
@@ -82,6 +84,44 @@ view_failed() { [[ $(systemctl is-active "$VIEW") == failed ]]; }
 check "the unit fails" wait_for 10 view_failed
 check "with exit status 2" test "$(systemctl show -P ExecMainStatus "$VIEW")" = 2
 check "and is not restarted (RestartPreventExitStatus=2)" test "$(systemctl show -P NRestarts "$VIEW")" = 0
+
+note "TLS as docs/web.md says: a certificate, its key 0640 root:wheeltec, https:// and wss://"
+chmod 0640 "$VIEW_DIR/token"
+make_pair() {  # NAME: a self-signed pair for 127.0.0.1 in $VIEW_DIR, as the docs make it
+  openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -days 2 -subj "/CN=$1" \
+    -addext subjectAltName=IP:127.0.0.1 -keyout "$VIEW_DIR/key.pem" -out "$VIEW_DIR/cert.pem" 2>/dev/null
+  chown root:wheeltec "$VIEW_DIR/key.pem" && chmod 0640 "$VIEW_DIR/key.pem"
+  cp "$VIEW_DIR/cert.pem" "$work/$1.pem"
+}
+make_pair first
+echo '{"token_file": "/etc/wheeltec-web/token", "tls": {"cert": "/etc/wheeltec-web/cert.pem", "key": "/etc/wheeltec-web/key.pem"}}' \
+  >"$VIEW_DIR/wheeltec-web.json"
+systemctl reset-failed "$VIEW"
+systemctl start "$VIEW"
+serves_tls() { [[ $(http_status --cacert "$work/first.pem" "https://127.0.0.1:8080/api/status") == 200 ]]; }
+check "the unit serves https:// under its hardening" wait_for 10 serves_tls
+check "plain HTTP on the TLS port gets 400" test "$(http_status "$URL/api/status")" = 400
+mark=$(bus_mark)
+drives_over_wss() {
+  NODE_PATH=$WHEELTEC_WEB_NODE_MODULES NODE_EXTRA_CA_CERTS=$work/first.pem \
+    node "$WHEELTEC_WEB_CLIENTS/foxglove_client.cjs" drive wss://127.0.0.1:8080 "$token" >"$work/drive-wss.json"
+}
+check "a Foxglove client over wss:// with the token drives" drives_over_wss
+check "its drive reaches the bus ($DRIVE_FRAME)" frame_seen_after "$mark" "$DRIVE_FRAME"
+make_pair renewed
+systemctl reload "$VIEW"
+serves_renewed() { [[ $(http_status --cacert "$work/renewed.pem" "https://127.0.0.1:8080/api/status") == 200 ]]; }
+check "systemctl reload: the renewed certificate is served" wait_for 10 serves_renewed
+check "without a restart" test "$(systemctl show -P NRestarts "$VIEW")" = 0
+
+note "a key file others can read: refused, exit 2, no restart loop"
+systemctl stop "$VIEW"
+chmod 0644 "$VIEW_DIR/key.pem"
+systemctl start "$VIEW"
+check "the unit fails" wait_for 10 view_failed
+check "with exit status 2" test "$(systemctl show -P ExecMainStatus "$VIEW")" = 2
+check "naming the key file in the journal" bash -c "journalctl -u $VIEW --no-pager -n 5 | grep -q /etc/wheeltec-web/key.pem"
+check "and is not restarted" test "$(systemctl show -P NRestarts "$VIEW")" = 0
 
 cleanup
 finish

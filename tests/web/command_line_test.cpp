@@ -6,8 +6,11 @@
 #include <netinet/in.h>
 #include <unistd.h>
 
+#include <arpa/inet.h>
+
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -30,7 +33,8 @@ class WebCommandLine : public ::testing::Test {
 TEST_F(WebCommandLine, HelpAndVersion) {
   const auto help = run({"--help"});
   EXPECT_TRUE(help.status.exited_with(0)) << help.describe();
-  for (const char* flag : {"--config", "--socket", "--listen", "--token-file", "--allow-origin", "--log-level"}) {
+  for (const char* flag : {"--config", "--socket", "--listen", "--token-file", "--allow-origin", "--tls-cert",
+                           "--tls-key", "--log-level"}) {
     EXPECT_NE(help.out.find(flag), std::string::npos) << flag;
   }
   const auto version = run({"--version"});
@@ -81,6 +85,33 @@ TEST_F(WebCommandLine, APortInUseExits1) {
   ::close(fd);
   EXPECT_TRUE(done.status.exited_with(1)) << done.describe();
   EXPECT_NE(done.err.find("in use"), std::string::npos) << done.err;
+}
+
+TEST_F(WebCommandLine, RunFromTheBuildTreeItServesThePageWithoutPageDir) {
+  constexpr int kPort = 18093;
+  integration::ChildProcess web("wheeltec-web", WHEELTEC_WEB_PATH,
+                                {"--listen", "127.0.0.1:" + std::to_string(kPort), "--socket",
+                                 (directory_ / "no-daemon.sock").string()},
+                                directory_.path());
+  std::string answer;
+  for (int i = 0; i < 100 && answer.find("id=\"joystick\"") == std::string::npos; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(kPort);
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0) {
+      const std::string request = "GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
+      (void)!::write(fd, request.data(), request.size());
+      char buffer[4096];
+      answer.clear();
+      for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) answer.append(buffer, static_cast<std::size_t>(n));
+    }
+    ::close(fd);
+  }
+  EXPECT_NE(answer.find("HTTP/1.1 200"), std::string::npos) << answer.substr(0, 300) << web.output_report();
+  EXPECT_NE(answer.find("id=\"joystick\""), std::string::npos) << web.output_report();
 }
 
 }  // namespace
