@@ -2,6 +2,9 @@
 
 // TCP on 127.0.0.1 for tests and benchmarks that start servers of their own (a broker).
 
+#include <chrono>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace integration {
@@ -11,6 +14,14 @@ int free_loopback_port();
 
 // True when something on 127.0.0.1:`port` accepts a connection now.
 bool loopback_accepts(int port);
+
+// A connected socket to 127.0.0.1:`port` (close it), or -1.
+int connect_loopback(int port);
+
+// Sends `bytes` on a new connection to 127.0.0.1:`port` and returns what came back until the
+// server closed it or nothing came for `timeout`; "connect failed" when nobody listens.
+std::string loopback_exchange(int port, std::string_view bytes,
+                              std::chrono::milliseconds timeout = std::chrono::seconds(3));
 
 // A port on 127.0.0.1 that takes no new connection: it listens with a backlog of 0 and its
 // one queue place filled, never accepted, so the kernel drops every further SYN and a

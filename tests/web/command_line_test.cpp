@@ -6,8 +6,6 @@
 #include <netinet/in.h>
 #include <unistd.h>
 
-#include <arpa/inet.h>
-
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -15,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "child_process.hpp"
+#include "loopback_tcp.hpp"
 #include "test_environment.hpp"
 
 namespace {
@@ -96,19 +95,7 @@ TEST_F(WebCommandLine, RunFromTheBuildTreeItServesThePageWithoutPageDir) {
   std::string answer;
   for (int i = 0; i < 100 && answer.find("id=\"joystick\"") == std::string::npos; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = htons(kPort);
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0) {
-      const std::string request = "GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
-      (void)!::write(fd, request.data(), request.size());
-      char buffer[4096];
-      answer.clear();
-      for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) answer.append(buffer, static_cast<std::size_t>(n));
-    }
-    ::close(fd);
+    answer = integration::loopback_exchange(kPort, "GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
   }
   EXPECT_NE(answer.find("HTTP/1.1 200"), std::string::npos) << answer.substr(0, 300) << web.output_report();
   EXPECT_NE(answer.find("id=\"joystick\""), std::string::npos) << web.output_report();

@@ -4,10 +4,6 @@
 // HTTP. Run in scripts/vcan-run. The page in Chromium is page_test.cpp's, natively.
 // The suite shares one gateway and one wheeltec-web; each test leaves them as it found them.
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -20,6 +16,7 @@
 #include "child_process.hpp"
 #include "control_frames.hpp"
 #include "gateway.hpp"
+#include "loopback_tcp.hpp"
 #include "test_environment.hpp"
 
 namespace {
@@ -36,23 +33,7 @@ std::string ws_url() { return "ws://127.0.0.1:" + std::to_string(kPort); }
 
 // One HTTP exchange over a fresh TCP connection: what the server answered until it closed.
 std::string http_exchange(const std::string& request, std::chrono::milliseconds timeout = 3s) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(kPort);
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    ::close(fd);
-    return "connect failed";
-  }
-  timeval tv{static_cast<time_t>(timeout.count() / 1000), static_cast<suseconds_t>(timeout.count() % 1000 * 1000)};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  (void)!::write(fd, request.data(), request.size());
-  std::string answer;
-  char buffer[4096];
-  for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) answer.append(buffer, static_cast<std::size_t>(n));
-  ::close(fd);
-  return answer;
+  return integration::loopback_exchange(kPort, request, timeout);
 }
 
 std::string body_of(const std::string& response) {

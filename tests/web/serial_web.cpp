@@ -1,26 +1,12 @@
 #include "serial_web.hpp"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
+#include "loopback_tcp.hpp"
 
 #include <fstream>
 #include <stdexcept>
 #include <thread>
 
 namespace web_tests {
-
-bool accepts_connections(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<std::uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  const bool connected = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
-  ::close(fd);
-  return connected;
-}
 
 namespace {
 
@@ -89,11 +75,11 @@ ChildProcess& SerialWebTest::start_web(int port, const std::vector<std::string>&
                                      "--page-dir",   WHEELTEC_WEB_PAGE_SOURCE};
   arguments.insert(arguments.end(), extra.begin(), extra.end());
   web_ = std::make_unique<ChildProcess>("wheeltec-web", WHEELTEC_WEB_PATH, arguments, directory_->path());
-  for (int i = 0; i < 100 && !accepts_connections(port); ++i) {
+  for (int i = 0; i < 100 && !integration::loopback_accepts(port); ++i) {
     if (!web_->running()) break;
     std::this_thread::sleep_for(50ms);
   }
-  if (!accepts_connections(port)) {
+  if (!integration::loopback_accepts(port)) {
     throw std::runtime_error("wheeltec-web does not listen on " + std::to_string(port) + "\n" + web_logs());
   }
   return *web_;

@@ -24,9 +24,6 @@ using serial_tests::SteadyClock;
 
 inline constexpr const char* kToken = "s3cret-token";
 
-// Whether something accepts TCP connections on 127.0.0.1:port.
-bool accepts_connections(int port);
-
 // A test CA and server certificates it signed for 127.0.0.1 and localhost, made by openssl.
 struct TestCertificates {
   std::filesystem::path ca;          // the CA's certificate: what clients trust

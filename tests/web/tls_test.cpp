@@ -6,9 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,6 +15,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "loopback_tcp.hpp"
 #include "serial_web.hpp"
 
 namespace web_tests {
@@ -23,26 +23,7 @@ namespace {
 
 constexpr int kPort = 18091;
 
-// Sends `bytes` on a new connection and returns what came back until the server closed it.
-std::string exchange(const std::string& bytes, std::chrono::milliseconds timeout = 3s) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(kPort);
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    ::close(fd);
-    return "connect failed";
-  }
-  timeval tv{static_cast<time_t>(timeout.count() / 1000), static_cast<suseconds_t>(timeout.count() % 1000 * 1000)};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  (void)!::write(fd, bytes.data(), bytes.size());
-  std::string answer;
-  char buffer[4096];
-  for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) answer.append(buffer, static_cast<std::size_t>(n));
-  ::close(fd);
-  return answer;
-}
+std::string exchange(const std::string& bytes) { return integration::loopback_exchange(kPort, bytes); }
 
 class WebTls : public SerialWebTest {
  protected:
@@ -116,12 +97,8 @@ TEST_F(WebTls, FoxgloveOverWssSeesEveryChannelDrivesAndMeetsTheSameRules) {
 TEST_F(WebTls, PlainHttpGarbageOldProtocolsAndStalledHandshakesCostOnlyTheirConnection) {
   start_tls_web();
   // A client that connects and never says anything, held open through the rest.
-  const int stalled = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(kPort);
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(::connect(stalled, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  const int stalled = integration::connect_loopback(kPort);
+  ASSERT_GE(stalled, 0);
   const auto stalled_since = SteadyClock::now();
 
   const std::string plain = exchange("GET /api/status HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
