@@ -31,7 +31,6 @@ constexpr std::size_t kTelemetryNotificationReserve = 768;
 constexpr std::chrono::milliseconds kAcceptRetryDelay{200};
 
 // JSON-RPC "server error" range; the contract gives this one no name of its own.
-constexpr int kTooManyClients = -32000;
 
 bool is_resource_shortage(const boost::system::error_code& error) {
   const int value = error.value();
@@ -173,7 +172,7 @@ void ApiServer::refuse_client(stream_protocol::socket socket) {
   ++counters_.clients_refused;
   spdlog::warn("API: refused a client: too many clients (max {})", max_clients_);
   auto line = std::make_shared<const std::string>(
-      rpc::encode_error(rpc::Error{kTooManyClients, fmt::format("too many clients (max {})", max_clients_), nullptr}));
+      rpc::encode_error(rpc::Error{rpc::kTooManyClients, fmt::format("too many clients (max {})", max_clients_), nullptr}));
   auto client = std::make_shared<stream_protocol::socket>(std::move(socket));
   boost::asio::async_write(*client, boost::asio::buffer(*line),
                            [client, line](const boost::system::error_code& error, std::size_t) {

@@ -163,7 +163,7 @@ void Bridge::execute(const CommandRequest& request, const std::string& operator_
                                             error_object(kTooManyOperators, "too many remote operators at once "
                                                                             "(operators.max)")));
     }
-    send_reply(target, error_reply(command, id, error_object(kDaemonUnavailable, "wheeltecd: " + ec.message())));
+    send_reply(target, error_reply(command, id, error_object(kDaemonUnreachable, "wheeltecd: " + ec.message())));
   };
   const std::string method(command_name(command));
   if (command == Command::drive) {

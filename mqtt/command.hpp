@@ -16,6 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "wheeltec/error_codes.hpp"
+
 #include "topics.hpp"
 
 namespace wheeltec::mqtt {
@@ -25,12 +27,9 @@ using Json = nlohmann::ordered_json;
 inline constexpr std::size_t kMaxCommandBytes = 64 * 1024;  // the daemon's line limit
 inline constexpr std::size_t kMaxOperatorNameBytes = 128;
 
-// JSON-RPC error codes the bridge itself answers with.
-inline constexpr int kParseError = -32700;
-inline constexpr int kInvalidRequest = -32600;
-inline constexpr int kInvalidParams = -32602;
-inline constexpr int kDaemonUnavailable = -32000;  // wheeltecd cannot be reached, or gave no answer
-inline constexpr int kTooManyOperators = -32007;   // every operator slot is taken (operators.max)
+// The JSON-RPC error codes the bridge itself answers with are wheeltecd's list's
+// (kParseError, kInvalidRequest, kInvalidParams, kTooManyOperators, kDaemonUnreachable).
+using namespace wheeltec::error_codes;
 
 struct CommandRequest {
   Command command;

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "server.hpp"
+#include "wheeltec/error_codes.hpp"
 
 namespace wheeltec::web {
 namespace {
@@ -22,8 +23,8 @@ constexpr std::size_t kMaxClientChannels = 16;
 std::string refusal_text(boost::system::error_code ec, const client::Json& error) {
   if (ec.category() == client::rpc_category()) {
     std::string message = error.is_object() ? error.value("message", ec.message()) : ec.message();
-    if (ec.value() == -32001) message = "another client holds control: " + message;
-    if (ec.value() == -32005) message = "this user may not drive: " + message;
+    if (ec.value() == error_codes::kControlHeld) message = "another client holds control: " + message;
+    if (ec.value() == error_codes::kNotPermitted) message = "this user may not drive: " + message;
     return fmt::format("drive refused ({}): {}", ec.value(), message);
   }
   return fmt::format("drive failed: wheeltecd: {}", ec.message());
@@ -172,8 +173,9 @@ void Viewer::publish(const foxglove::ClientPublish& message) {
   }
   if (!may_drive_) {
     return send_status(foxglove::Level::error,
-                       "drive refused (-32005): this viewer may not drive: it gave no valid token "
-                       "(Authorization: Bearer TOKEN or ?token=TOKEN)",
+                       fmt::format("drive refused ({}): this viewer may not drive: it gave no valid token "
+                                   "(Authorization: Bearer TOKEN or ?token=TOKEN)",
+                                   error_codes::kNotPermitted),
                        "drive-refused");
   }
   if (!drive_) drive_ = std::make_unique<DriveLink>(server_.executor(), server_.config().socket);

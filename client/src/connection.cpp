@@ -1,5 +1,7 @@
 #include "wheeltec/client/connection.hpp"
 
+#include "wheeltec/error_codes.hpp"
+
 #include <cstdlib>
 #include <deque>
 #include <istream>
@@ -22,19 +24,8 @@ class RpcCategory : public boost::system::error_category {
  public:
   const char* name() const noexcept override { return "wheeltec.rpc"; }
   std::string message(int code) const override {
-    switch (code) {
-      case -32700: return "parse error";
-      case -32600: return "invalid request";
-      case -32601: return "unknown method";
-      case -32602: return "invalid params";
-      case -32001: return "another client holds control";
-      case -32002: return "control is disabled";
-      case -32003: return "the CAN bus is down";
-      case -32004: return "no telemetry yet";
-      case -32005: return "not allowed to control the chassis";
-      case -32006: return "the chassis is not ready (booting, self-test or halted)";
-      default: return "JSON-RPC error " + std::to_string(code);
-    }
+    if (const char* name = error_codes::describe(code)) return name;
+    return "JSON-RPC error " + std::to_string(code);
   }
 };
 

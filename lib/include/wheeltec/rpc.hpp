@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "wheeltec/error_codes.hpp"
 #include "wheeltec/types.hpp"
 
 // JSON-RPC 2.0 framing for the daemon's line protocol (spec section 2, "JSON API").
@@ -14,19 +15,7 @@ namespace wheeltec::rpc {
 
 inline constexpr std::size_t kMaxLineBytes = 64 * 1024;  // without the '\n'
 
-enum ErrorCode : int {
-  kParseError = -32700,
-  kInvalidRequest = -32600,
-  kMethodNotFound = -32601,
-  kInvalidParams = -32602,
-  kInternalError = -32603,
-  kControlHeld = -32001,
-  kControlDisabled = -32002,
-  kBusDown = -32003,
-  kNoTelemetry = -32004,
-  kNotPermitted = -32005,
-  kChassisNotReady = -32006,  // drive while chassis.phase is booting, self-test or halted
-};
+using namespace wheeltec::error_codes;  // kParseError ... kChassisNotReady: one list for all
 
 struct Request {
   nlohmann::json id;          // null when is_notification
