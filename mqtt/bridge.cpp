@@ -3,16 +3,14 @@
 #include <boost/asio/error.hpp>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/seconds.hpp"
+
 namespace wheeltec::mqtt {
 namespace {
 
 using client::Json;
 
 constexpr std::string_view kAnonymousOperator = "";
-
-std::chrono::milliseconds milliseconds(double seconds) {
-  return std::chrono::milliseconds(static_cast<long long>(seconds * 1000));
-}
 
 std::string default_client_id(const BridgeConfig& config) { return "wheeltec-mqtt-" + *config.robot; }
 
@@ -27,7 +25,7 @@ Bridge::Bridge(boost::asio::io_context& io, BridgeConfig config)
       daemon_(io.get_executor(), config_.socket),
       stats_timer_(io),
       operators_(io.get_executor(), config_.socket, static_cast<std::size_t>(config_.operators.max),
-                 milliseconds(config_.operators.idle_s)),
+                 from_seconds<std::chrono::milliseconds>(config_.operators.idle_s)),
       telemetry_rate_(config_.telemetry.max_rate_hz),
       backlog_(static_cast<std::size_t>(config_.telemetry.queue_limit)) {
   mqtt_.on_connected([this] { broker_connected(); });
@@ -210,7 +208,7 @@ void Bridge::publish_stats() {
 }
 
 void Bridge::run_stats_timer() {
-  stats_timer_.expires_after(milliseconds(config_.stats.period_s));
+  stats_timer_.expires_after(from_seconds<std::chrono::milliseconds>(config_.stats.period_s));
   stats_timer_.async_wait([this](boost::system::error_code ec) {
     if (ec || stopped_) return;
     publish_stats();

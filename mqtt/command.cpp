@@ -2,7 +2,9 @@
 
 #include <cmath>
 
+#include "wheeltec/drive_velocity.hpp"
 #include "wheeltec/json_text.hpp"
+#include "wheeltec/types.hpp"
 
 namespace wheeltec::mqtt {
 namespace {
@@ -54,6 +56,7 @@ ParsedCommand parse_command(Command command, std::string_view payload) {
     }
   }
   Json params = Json::object();
+  Velocity velocity;  // each member checked as it comes; params keeps them as given
   for (const auto& [key, value] : document.items()) {
     if (key == "id") continue;
     if (key == "operator") {
@@ -68,11 +71,8 @@ ParsedCommand parse_command(Command command, std::string_view payload) {
       continue;
     }
     if (lenient) continue;
-    const bool velocity = command == Command::drive && (key == "vx" || key == "vy" || key == "wz");
-    if (!velocity) return refuse(kInvalidParams, "unknown param " + key, request.id);
-    if (!value.is_number() || !std::isfinite(value.get<double>())) {
-      return refuse(kInvalidParams, key + " must be a finite number", request.id);
-    }
+    if (command != Command::drive) return refuse(kInvalidParams, "unknown param \"" + key + "\"", request.id);
+    if (auto problem = read_drive_member(key, value, velocity)) return refuse(kInvalidParams, *problem, request.id);
     params[key] = value.get<double>();
   }
   if (command == Command::drive) request.params = std::move(params);

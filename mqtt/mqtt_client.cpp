@@ -18,6 +18,7 @@
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/client/backoff.hpp"
+#include "wheeltec/seconds.hpp"
 
 #include "pacing.hpp"
 
@@ -26,10 +27,6 @@ namespace {
 
 constexpr std::chrono::seconds kMiscPeriod{1};
 constexpr int kSubscriptionOptionsV5 = MQTT_SUB_OPT_SEND_RETAIN_NEVER;
-
-std::chrono::milliseconds milliseconds(double seconds) {
-  return std::chrono::milliseconds(static_cast<long long>(seconds * 1000));
-}
 
 std::string error_text(int rc) {
   if (rc == MOSQ_ERR_ERRNO) return std::strerror(errno);
@@ -59,7 +56,8 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
         reach_deadline_(executor),
         retry_timer_(executor),
         misc_timer_(executor),
-        backoff_(milliseconds(broker.reconnect_min_s), milliseconds(broker.reconnect_max_s)) {
+        backoff_(from_seconds<std::chrono::milliseconds>(broker.reconnect_min_s),
+                 from_seconds<std::chrono::milliseconds>(broker.reconnect_max_s)) {
     library_init();
     mosq_ = mosquitto_new(client_id.c_str(), /*clean_session=*/true, this);
     if (mosq_ == nullptr) throw std::runtime_error("cannot create the MQTT client: " + std::string(std::strerror(errno)));

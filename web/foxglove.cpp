@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "wheeltec/drive_velocity.hpp"
 #include "wheeltec/json_text.hpp"
 
 namespace wheeltec::web::foxglove {
@@ -246,17 +247,8 @@ std::variant<ClientPublish, ProtocolError> parse_binary(std::string_view data) {
 std::variant<client::Velocity, ProtocolError> parse_cmd_vel(std::string_view payload) {
   auto read = read_json(payload, "cmd_vel: ");
   if (auto* error = std::get_if<ProtocolError>(&read)) return std::move(*error);
-  const Json& message = std::get<Json>(read);
-  if (!message.is_object()) return ProtocolError{"cmd_vel: expected an object {\"vx\",\"vy\",\"wz\"}"};
   client::Velocity velocity;
-  for (const auto& [key, value] : message.items()) {
-    double* target = key == "vx" ? &velocity.vx : key == "vy" ? &velocity.vy : key == "wz" ? &velocity.wz : nullptr;
-    if (target == nullptr) return ProtocolError{fmt::format("cmd_vel: unknown key \"{}\"", key.substr(0, 64))};
-    if (!value.is_number() || !std::isfinite(value.get<double>())) {
-      return ProtocolError{fmt::format("cmd_vel: \"{}\" must be a finite number", key)};
-    }
-    *target = value.get<double>();
-  }
+  if (auto problem = read_drive_velocity(std::get<Json>(read), velocity)) return ProtocolError{"cmd_vel: " + *problem};
   return velocity;
 }
 

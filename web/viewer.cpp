@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "server.hpp"
+#include "wheeltec/seconds.hpp"
 #include "wheeltec/error_codes.hpp"
 
 namespace wheeltec::web {
@@ -38,7 +39,7 @@ Viewer::Viewer(Server& server, WebStream stream, bool may_drive, std::string id)
       may_drive_(may_drive),
       id_(std::move(id)),
       queue_(SendQueue::Limits{static_cast<std::size_t>(server.config().queue_limit), 256,
-                               std::chrono::milliseconds(static_cast<long long>(server.config().stall_timeout_s * 1000))}) {
+                               from_seconds<std::chrono::milliseconds>(server.config().stall_timeout_s)}) {
   boost::system::error_code ec;
   const auto endpoint = ws_.next_layer().tcp().socket().remote_endpoint(ec);
   peer_ = ec ? "?" : fmt::format("{}:{}", endpoint.address().to_string(), endpoint.port());

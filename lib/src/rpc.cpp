@@ -1,5 +1,7 @@
 #include "wheeltec/rpc.hpp"
 
+#include "wheeltec/drive_velocity.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -214,23 +216,7 @@ std::variant<Velocity, Error> parse_drive_params(const Request& request, Chassis
   if (!params.is_object()) {
     return invalid_params(request, "drive params must be an object {\"vx\", \"vy\", \"wz\"}");
   }
-  for (const auto& [key, value] : params.items()) {
-    double* target = nullptr;
-    if (key == "vx") {
-      target = &velocity.vx;
-    } else if (key == "vy") {
-      target = &velocity.vy;
-    } else if (key == "wz") {
-      target = &velocity.wz;
-    } else {
-      return invalid_params(request, fmt::format("unknown param \"{}\"", key));
-    }
-    if (!value.is_number()) {
-      return invalid_params(request, fmt::format("{} must be a number, got {}", key, value.type_name()));
-    }
-    *target = value.get<double>();
-    if (!std::isfinite(*target)) return invalid_params(request, fmt::format("{} must be finite", key));
-  }
+  if (auto problem = read_drive_velocity(params, velocity)) return invalid_params(request, *problem);
   if (velocity.vy != 0.0 && !is_holonomic(chassis)) {
     return invalid_params(request, fmt::format("vy must be 0 on a {} chassis", to_string(chassis)));
   }

@@ -61,13 +61,13 @@ TEST(MqttCommand, MalformedPayloadsAreRefusedWithJsonRpcCodes) {
 TEST(MqttCommand, WrongTypesAndUnknownParamsAreInvalidParams) {
   const auto text = refused(Command::drive, R"({"vx":"fast","id":9})");
   EXPECT_EQ(text.code, kInvalidParams);
-  EXPECT_EQ(text.message, "vx must be a finite number");
+  EXPECT_EQ(text.message, "vx must be a number, got string");
   EXPECT_EQ(text.id, 9);
   EXPECT_EQ(refused(Command::drive, R"({"vx":true})").code, kInvalidParams);
   EXPECT_EQ(refused(Command::drive, R"({"vx":null})").code, kInvalidParams);
   EXPECT_EQ(refused(Command::drive, R"({"wz":1e999})").code, kParseError);  // not a finite JSON number
-  EXPECT_EQ(refused(Command::drive, R"({"speed":1})").message, "unknown param speed");
-  EXPECT_EQ(refused(Command::enable, R"({"vx":1})").message, "unknown param vx");
+  EXPECT_EQ(refused(Command::drive, R"({"speed":1})").message, "unknown param \"speed\"");
+  EXPECT_EQ(refused(Command::enable, R"({"vx":1})").message, "unknown param \"vx\"");
   EXPECT_EQ(refused(Command::drive, R"({"operator":""})").code, kInvalidParams);
   EXPECT_EQ(refused(Command::drive, R"({"operator":7})").code, kInvalidParams);
 }
@@ -78,7 +78,7 @@ TEST(MqttCommand, OversizedAndDeeplyNestedPayloadsAreRefused) {
   EXPECT_EQ(refused(Command::drive, std::string(60000, '[')).code, kInvalidRequest);
   EXPECT_EQ(refused(Command::drive, R"({"a":{"b":{"c":{"d":{"e":{"f":{"g":{"h":{}}}}}}}}})").code, kInvalidRequest);
   // Brackets inside strings are not nesting.
-  EXPECT_EQ(refused(Command::drive, R"({"x":"[[[[[[[[[[[[[[[["})").message, "unknown param x");
+  EXPECT_EQ(refused(Command::drive, R"({"x":"[[[[[[[[[[[[[[[["})").message, "unknown param \"x\"");
 }
 
 TEST(MqttCommand, AKeyGivenTwiceIsRefusedNotGuessed) {
