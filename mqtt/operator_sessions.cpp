@@ -22,64 +22,46 @@ OperatorSessions::~OperatorSessions() {
 void OperatorSessions::call(const std::string& operator_id, const std::string& method, client::Json params,
                             client::Connection::CallHandler handler) {
   auto session = sessions_.find(operator_id);
-  if (session == sessions_.end()) {
-    if (full()) {
-      boost::asio::post(executor_, [handler = std::move(handler)] { handler(boost::asio::error::no_buffer_space, {}); });
-      return;
-    }
-    open_session(operator_id);
-    session = sessions_.find(operator_id);
-  }
-  session->second.last_used = std::chrono::steady_clock::now();
-  if (!session->second.open) {
-    session->second.pending.push_back({method, std::move(params), std::move(handler)});
+  if (session == sessions_.end() && full()) {
+    boost::asio::post(executor_, [handler = std::move(handler)] { handler(boost::asio::error::no_buffer_space, {}); });
     return;
   }
-  session->second.connection->async_call(method, std::move(params), std::move(handler));
+  client::OwnConnection& connection = session == sessions_.end() ? open_session(operator_id) : *session->second;
+  if (method == "drive") {
+    client::Velocity velocity{params.value("vx", 0.0), params.value("vy", 0.0), params.value("wz", 0.0)};
+    return connection.drive(velocity, std::move(handler));
+  }
+  connection.call(method, std::move(params), std::move(handler));
 }
 
-void OperatorSessions::open_session(const std::string& operator_id) {
-  Session& session = sessions_[operator_id];
-  session.connection = std::make_unique<client::Connection>(executor_);
-  const client::Connection* connection = session.connection.get();
+client::OwnConnection& OperatorSessions::open_session(const std::string& operator_id) {
+  auto& session = sessions_[operator_id];
+  session = std::make_unique<client::OwnConnection>(executor_, socket_path_);
+  const client::OwnConnection* connection = session.get();
   spdlog::info("operator \"{}\": opening a daemon connection of its own", operator_id);
-  session.connection->on_close([this, alive = alive_, operator_id, connection](boost::system::error_code ec) {
+  session->on_close([this, alive = alive_, operator_id, connection](boost::system::error_code ec) {
     if (!*alive) return;
     spdlog::info("operator \"{}\": the daemon closed its connection ({})", operator_id, ec.message());
     boost::asio::post(executor_, [this, alive, operator_id, connection] {
       if (*alive) forget(operator_id, connection);
     });
   });
-  session.connection->async_connect(socket_path_, [this, alive = alive_, operator_id,
-                                                   connection](boost::system::error_code ec) {
-    if (!*alive) return;
-    const auto found = sessions_.find(operator_id);
-    if (found == sessions_.end() || found->second.connection.get() != connection) return;
-    auto pending = std::move(found->second.pending);
-    found->second.pending.clear();
-    if (ec) {
-      sessions_.erase(found);
-      for (auto& call : pending) call.handler(ec, {});
-      return;
-    }
-    found->second.open = true;
-    for (auto& call : pending) found->second.connection->async_call(call.method, std::move(call.params), std::move(call.handler));
-  });
   if (sessions_.size() == 1) sweep();
+  return *session;
 }
 
-void OperatorSessions::forget(const std::string& operator_id, const client::Connection* connection) {
+void OperatorSessions::forget(const std::string& operator_id, const client::OwnConnection* connection) {
   const auto found = sessions_.find(operator_id);
-  if (found != sessions_.end() && found->second.connection.get() == connection) sessions_.erase(found);
+  if (found != sessions_.end() && found->second.get() == connection) sessions_.erase(found);
 }
 
 void OperatorSessions::sweep() {
   sweep_timer_.expires_after(std::min<std::chrono::milliseconds>(idle_timeout_ / 4, std::chrono::seconds(1)));
   sweep_timer_.async_wait([this, alive = alive_](boost::system::error_code ec) {
     if (ec || !*alive) return;
-    const auto now = std::chrono::steady_clock::now();
+    const auto now = client::OwnConnection::Clock::now();
     for (auto it = sessions_.begin(); it != sessions_.end();) {
-      if (it->second.open && now - it->second.last_used >= idle_timeout_) {
+      if (now - it->second->last_used() >= idle_timeout_) {
         spdlog::info("operator \"{}\": idle, closing its daemon connection", it->first);
         it = sessions_.erase(it);
       } else {
@@ -94,11 +76,7 @@ void OperatorSessions::close_all() {
   auto sessions = std::move(sessions_);
   sessions_.clear();
   sweep_timer_.cancel();
-  for (auto& [id, session] : sessions) {
-    auto pending = std::move(session.pending);
-    session.connection.reset();
-    for (auto& call : pending) call.handler(boost::asio::error::operation_aborted, {});
-  }
+  for (auto& [id, session] : sessions) session->cancel();
 }
 
 }  // namespace wheeltec::mqtt

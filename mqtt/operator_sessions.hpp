@@ -13,12 +13,11 @@
 #include <map>
 #include <memory>
 #include <string>
-#include <vector>
 
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/steady_timer.hpp>
 
-#include "wheeltec/client/connection.hpp"
+#include "wheeltec/client/own_connection.hpp"
 
 namespace wheeltec::mqtt {
 
@@ -42,27 +41,15 @@ class OperatorSessions {
   bool full() const { return sessions_.size() >= max_sessions_; }
 
  private:
-  struct PendingCall {
-    std::string method;
-    client::Json params;
-    client::Connection::CallHandler handler;
-  };
-  struct Session {
-    std::unique_ptr<client::Connection> connection;
-    bool open = false;
-    std::vector<PendingCall> pending;  // while connecting
-    std::chrono::steady_clock::time_point last_used;
-  };
-
-  void open_session(const std::string& operator_id);
-  void forget(const std::string& operator_id, const client::Connection* connection);
+  client::OwnConnection& open_session(const std::string& operator_id);
+  void forget(const std::string& operator_id, const client::OwnConnection* connection);
   void sweep();
 
   boost::asio::any_io_executor executor_;
   std::string socket_path_;
   std::size_t max_sessions_;
   std::chrono::milliseconds idle_timeout_;
-  std::map<std::string, Session> sessions_;
+  std::map<std::string, std::unique_ptr<client::OwnConnection>> sessions_;
   boost::asio::steady_timer sweep_timer_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };

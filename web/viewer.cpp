@@ -179,7 +179,7 @@ void Viewer::publish(const foxglove::ClientPublish& message) {
                                    error_codes::kNotPermitted),
                        "drive-refused");
   }
-  if (!drive_) drive_ = std::make_unique<DriveLink>(server_.executor(), server_.config().socket);
+  if (!drive_) drive_ = std::make_unique<client::OwnConnection>(server_.executor(), server_.config().socket);
   drive_->drive(std::get<client::Velocity>(velocity),
                 [weak = weak_from_this()](boost::system::error_code ec, const client::Json& result) {
                   const auto self = weak.lock();

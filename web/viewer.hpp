@@ -15,7 +15,8 @@
 #include <boost/beast/http/string_body.hpp>
 #include <boost/beast/websocket/stream.hpp>
 
-#include "drive_link.hpp"
+#include "wheeltec/client/own_connection.hpp"
+
 #include "foxglove.hpp"
 #include "send_queue.hpp"
 #include "web_stream.hpp"
@@ -63,7 +64,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   OutgoingMessage writing_message_;
   bool writing_ = false;
   bool closed_ = false;
-  std::unique_ptr<DriveLink> drive_;
+  std::unique_ptr<client::OwnConnection> drive_;  // this viewer's own daemon connection, on its first drive
 };
 
 }  // namespace wheeltec::web

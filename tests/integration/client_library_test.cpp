@@ -11,6 +11,7 @@
 #include <boost/system/system_error.hpp>
 
 #include "wheeltec/client/client.hpp"
+#include "wheeltec/client/own_connection.hpp"
 
 #include "can_bus.hpp"
 #include "control_frames.hpp"
@@ -112,6 +113,36 @@ TEST_F(ClientLibrary, DriverStopsRepeatingAtTheFirstRefusal) {
   EXPECT_EQ(refusals, 1);
   EXPECT_EQ(code, -32001) << "another client holds control";
   EXPECT_FALSE(driver.driving());
+}
+
+// A bridge's per-user connection: opened on the first request, a second one is another
+// client (-32001), a burst of drives reaches the daemon as its latest, and destroying it
+// releases control at once.
+TEST_F(ClientLibrary, OwnConnectionsAreSeparateClientsAndADriveBurstEndsOnTheLatest) {
+  client::Client robot(gateway_->socket_path().string());
+  auto first = std::make_unique<client::OwnConnection>(robot.io().get_executor(), gateway_->socket_path().string());
+  client::OwnConnection second(robot.io().get_executor(), gateway_->socket_path().string());
+  int answered = 0, refused_code = 0;
+  for (int i = 1; i <= 50; ++i) {
+    first->drive({0.01 * i, 0.0, 0.0}, [&](boost::system::error_code ec, const client::Json&) {
+      EXPECT_FALSE(ec) << ec.message();
+      ++answered;
+    });
+  }
+  run_for(robot, 300ms);
+  EXPECT_GE(answered, 1);
+  EXPECT_LT(answered, 50) << "drives waiting behind one in flight are replaced by the newest";
+  const client::Status driven = robot.status();
+  ASSERT_TRUE(driven.owner.has_value());
+  EXPECT_NEAR(driven.json["control"]["target"]["vx"].get<double>(), 0.5, 1e-9) << driven.json.dump();
+
+  second.drive({0.1, 0.0, 0.0}, [&](boost::system::error_code ec, const client::Json&) { refused_code = ec.value(); });
+  run_for(robot, 200ms);
+  EXPECT_EQ(refused_code, -32001);
+
+  first.reset();  // the viewer or operator is gone
+  run_for(robot, 100ms);
+  EXPECT_FALSE(robot.status().owner.has_value()) << "control released when the connection closed";
 }
 
 TEST_F(ClientLibrary, SubscriptionComesBackWithARestartedDaemon) {
