@@ -1,12 +1,11 @@
 #include "bridge_config.hpp"
 
 #include <charconv>
-#include <cmath>
-#include <functional>
-#include <initializer_list>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include "wheeltec/config_fields.hpp"
 
 #include "topics.hpp"
 
@@ -14,67 +13,7 @@ namespace wheeltec::mqtt {
 namespace {
 
 using json = nlohmann::json;
-
-[[noreturn]] void fail(const std::string& key, std::string_view problem) { throw ConfigError(key, problem); }
-
-std::string type_of(const json& value) { return value.type_name(); }
-
-struct Field {
-  std::string_view key;
-  std::function<void(const json&, const std::string&)> apply;
-};
-
-void apply_object(const json& value, const std::string& path, std::initializer_list<Field> fields) {
-  if (!value.is_object()) fail(path.empty() ? "config" : path, "expected an object, got " + type_of(value));
-  for (const auto& [key, member] : value.items()) {
-    const std::string member_path = path.empty() ? key : path + "." + key;
-    const Field* found = nullptr;
-    for (const Field& field : fields) {
-      if (field.key == key) found = &field;
-    }
-    if (found == nullptr) fail(member_path, "unknown key");
-    found->apply(member, member_path);
-  }
-}
-
-Field text(std::string_view key, std::string& target) {
-  return {key, [&target](const json& value, const std::string& path) {
-            if (!value.is_string()) fail(path, "expected a string, got " + type_of(value));
-            target = value.get<std::string>();
-          }};
-}
-
-// A string, or null for the default.
-Field optional_text(std::string_view key, std::optional<std::string>& target) {
-  return {key, [&target](const json& value, const std::string& path) {
-            if (value.is_null()) {
-              target.reset();
-              return;
-            }
-            if (!value.is_string()) fail(path, "expected a string or null, got " + type_of(value));
-            target = value.get<std::string>();
-          }};
-}
-
-Field number(std::string_view key, double& target) {
-  return {key, [&target](const json& value, const std::string& path) {
-            if (!value.is_number()) fail(path, "expected a number, got " + type_of(value));
-            target = value.get<double>();
-          }};
-}
-
-Field integer(std::string_view key, std::int64_t low, std::int64_t high, std::function<void(std::int64_t)> store) {
-  return {key, [=](const json& value, const std::string& path) {
-            const bool integral = value.is_number_integer() ||
-                                  (value.is_number_float() && std::trunc(value.get<double>()) == value.get<double>());
-            if (!integral) fail(path, "expected an integer, got " + (value.is_number() ? value.dump() : type_of(value)));
-            const double number = value.get<double>();
-            if (number < static_cast<double>(low) || number > static_cast<double>(high)) {
-              fail(path, fmt::format("must be an integer in [{}, {}], got {}", low, high, value.dump()));
-            }
-            store(static_cast<std::int64_t>(number));
-          }};
-}
+using namespace config_fields;
 
 void check_range(double value, double low, double high, const std::string& key) {
   if (!(value >= low && value <= high)) fail(key, fmt::format("must be in [{}, {}], got {}", low, high, value));
@@ -95,12 +34,9 @@ void apply_bridge_config(const json& document, BridgeConfig& config) {
       {text("socket", config.socket),
        optional_text("robot", config.robot),
        text("prefix", config.prefix),
-       {"broker",
-        [&](const json& value, const std::string& path) {
-          apply_object(
-              value, path,
+       object("broker",
               {text("host", broker.host),
-               integer("port", 1, 65535, [&](std::int64_t port) { broker.port = static_cast<std::uint16_t>(port); }),
+               integer("port", broker.port, 1, 65535),
                {"protocol",
                 [&](const json& protocol, const std::string& key) {
                   if (protocol == "5") broker.protocol = MqttProtocol::v5;
@@ -108,38 +44,19 @@ void apply_bridge_config(const json& document, BridgeConfig& config) {
                   else fail(key, "must be \"5\" or \"3.1.1\", got " + protocol.dump());
                 }},
                optional_text("client_id", broker.client_id),
-               integer("keepalive_s", 5, 65535, [&](std::int64_t seconds) { broker.keepalive_s = static_cast<int>(seconds); }),
+               integer("keepalive_s", broker.keepalive_s, 5, 65535),
                optional_text("username", broker.username),
                optional_text("password", broker.password),
-               {"tls",
-                [&](const json& tls, const std::string& tls_path) {
-                  apply_object(tls, tls_path,
-                               {optional_text("ca_file", broker.tls.ca_file), optional_text("cert_file", broker.tls.cert_file),
-                                optional_text("key_file", broker.tls.key_file)});
-                }},
+               object("tls", {optional_text("ca_file", broker.tls.ca_file),
+                              optional_text("cert_file", broker.tls.cert_file),
+                              optional_text("key_file", broker.tls.key_file)}),
                number("reconnect_min_s", broker.reconnect_min_s),
-               number("reconnect_max_s", broker.reconnect_max_s)});
-        }},
-       {"telemetry",
-        [&](const json& value, const std::string& path) {
-          apply_object(value, path,
-                       {number("max_rate_hz", config.telemetry.max_rate_hz),
-                        integer("queue_limit", 0, 1000000,
-                                [&](std::int64_t limit) { config.telemetry.queue_limit = static_cast<int>(limit); })});
-        }},
-       {"stats",
-        [&](const json& value, const std::string& path) {
-          apply_object(value, path, {number("period_s", config.stats.period_s)});
-        }},
-       {"operators",
-        [&](const json& value, const std::string& path) {
-          apply_object(value, path,
-                       {integer("max", 1, 1024, [&](std::int64_t max) { config.operators.max = static_cast<int>(max); }),
-                        number("idle_s", config.operators.idle_s)});
-        }},
-       {"log", [&](const json& value, const std::string& path) {
-          apply_object(value, path, {text("level", config.log.level)});
-        }}});
+               number("reconnect_max_s", broker.reconnect_max_s)}),
+       object("telemetry", {number("max_rate_hz", config.telemetry.max_rate_hz),
+                            integer("queue_limit", config.telemetry.queue_limit, 0, 1000000)}),
+       object("stats", {number("period_s", config.stats.period_s)}),
+       object("operators", {integer("max", config.operators.max, 1, 1024), number("idle_s", config.operators.idle_s)}),
+       object("log", {text("level", config.log.level)})});
 }
 
 void validate_bridge_config(const BridgeConfig& config) {

@@ -1,10 +1,7 @@
 #include "wheeltec/config.hpp"
 
 #include <array>
-#include <cmath>
 #include <cstdint>
-#include <functional>
-#include <initializer_list>
 #include <limits>
 #include <string>
 #include <utility>
@@ -13,12 +10,14 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "wheeltec/config_fields.hpp"
 #include "wheeltec/json_text.hpp"
 
 namespace wheeltec {
 namespace {
 
 using json = nlohmann::json;
+using namespace config_fields;
 
 constexpr std::size_t kIfNameSize = 16;   // IFNAMSIZ, including the terminating NUL
 constexpr std::size_t kSunPathSize = 108; // sizeof(sockaddr_un::sun_path), including the NUL
@@ -29,109 +28,53 @@ constexpr int kMaxClients = 1024;
 // Deeper than any config file: refused before the document is walked.
 constexpr int kMaxDepth = 16;
 
-[[noreturn]] void fail(std::string_view path, std::string_view message) { throw ConfigError(std::string(path), message); }
-
-std::string join(std::string_view path, std::string_view key) {
-  return path.empty() ? std::string(key) : fmt::format("{}.{}", path, key);
-}
-
-std::string describe(const json& value) { return value.type_name(); }
-
-double read_number(const json& value, const std::string& path) {
-  if (!value.is_number()) fail(path, fmt::format("expected a number, got {}", describe(value)));
-  return value.get<double>();
-}
-
-bool read_bool(const json& value, const std::string& path) {
-  if (!value.is_boolean()) fail(path, fmt::format("expected a boolean, got {}", describe(value)));
-  return value.get<bool>();
-}
-
-const std::string& read_string(const json& value, const std::string& path) {
-  if (!value.is_string()) fail(path, fmt::format("expected a string, got {}", describe(value)));
-  return value.get_ref<const std::string&>();
-}
-
-// Integers may be written as integral floating-point numbers too (1e6 for a bitrate).
-std::int64_t read_integer(const json& value, const std::string& path, std::int64_t lo, std::int64_t hi) {
-  auto out_of_range = [&] {
-    fail(path, fmt::format("must be an integer in [{}, {}], got {}", lo, hi, value.dump()));
-  };
-  if (value.is_number_unsigned()) {
-    const auto v = value.get<std::uint64_t>();
-    if (v > static_cast<std::uint64_t>(hi)) out_of_range();
-    return static_cast<std::int64_t>(v);
-  }
-  if (value.is_number_integer()) {
-    const auto v = value.get<std::int64_t>();
-    if (v < lo || v > hi) out_of_range();
-    return v;
-  }
-  if (value.is_number_float()) {
-    const double v = value.get<double>();
-    if (!std::isfinite(v) || std::trunc(v) != v) {
-      fail(path, fmt::format("expected an integer, got {}", value.dump()));
-    }
-    if (v < static_cast<double>(lo) || v > static_cast<double>(hi)) out_of_range();
-    return static_cast<std::int64_t>(v);
-  }
-  fail(path, fmt::format("expected an integer, got {}", describe(value)));
+template <typename Enum>
+Enum read_enum(const json& value, const std::string& path) {
+  const std::string& name = read_text(value, path);
+  if (const auto parsed = parse_enum<Enum>(name)) return *parsed;
+  fail(path, fmt::format("must be one of {}, got \"{}\"", fmt::join(enum_names<Enum>(), ", "), name));
 }
 
 template <typename Enum>
-Enum read_enum(const json& value, const std::string& path) {
-  const std::string& text = read_string(value, path);
-  if (const auto parsed = parse_enum<Enum>(text)) return *parsed;
-  fail(path, fmt::format("must be one of {}, got \"{}\"", fmt::join(enum_names<Enum>(), ", "), text));
+Field choice(std::string_view key, Enum& target) {
+  return {key, [&target](const json& value, const std::string& path) { target = read_enum<Enum>(value, path); }};
 }
 
 // An octal permission string; validate_config checks the value.
-std::uint32_t read_mode(const json& value, const std::string& path) {
-  if (!value.is_string()) {
-    fail(path, fmt::format("expected an octal string like \"0660\", got {}", describe(value)));
-  }
-  const std::string& text = value.get_ref<const std::string&>();
-  std::uint64_t mode = 0;
-  const bool octal = !text.empty() && text.size() <= 8 && text.find_first_not_of("01234567") == std::string::npos;
-  if (!octal) fail(path, fmt::format("must be an octal permission string like \"0660\", got \"{}\"", text));
-  for (char c : text) mode = mode * 8 + static_cast<std::uint64_t>(c - '0');
-  return static_cast<std::uint32_t>(mode);
+Field mode(std::string_view key, std::uint32_t& target) {
+  return {key, [&target](const json& value, const std::string& path) {
+            if (!value.is_string()) {
+              fail(path, fmt::format("expected an octal string like \"0660\", got {}", value.type_name()));
+            }
+            const std::string& text = value.get_ref<const std::string&>();
+            std::uint64_t bits = 0;
+            const bool octal =
+                !text.empty() && text.size() <= 8 && text.find_first_not_of("01234567") == std::string::npos;
+            if (!octal) fail(path, fmt::format("must be an octal permission string like \"0660\", got \"{}\"", text));
+            for (char c : text) bits = bits * 8 + static_cast<std::uint64_t>(c - '0');
+            target = static_cast<std::uint32_t>(bits);
+          }};
 }
 
-// User or group: a name, or a numeric id which is kept as its decimal string.
-std::vector<std::string> read_principals(const json& value, const std::string& path) {
-  if (!value.is_array()) fail(path, fmt::format("expected an array, got {}", describe(value)));
-  std::vector<std::string> out;
-  for (std::size_t i = 0; i < value.size(); ++i) {
-    const json& item = value[i];
-    const std::string item_path = fmt::format("{}[{}]", path, i);
-    if (item.is_string()) {
-      out.push_back(item.get<std::string>());
-    } else if (item.is_number()) {
-      out.push_back(std::to_string(read_integer(item, item_path, 0, std::numeric_limits<std::uint32_t>::max())));
-    } else {
-      fail(item_path, fmt::format("expected a string or a non-negative integer, got {}", describe(item)));
-    }
-  }
-  return out;
-}
-
-struct Field {
-  std::string_view key;
-  std::function<void(const json&, const std::string&)> apply;
-};
-
-void apply_object(const json& value, const std::string& path, std::initializer_list<Field> fields) {
-  if (!value.is_object()) fail(path, fmt::format("expected an object, got {}", describe(value)));
-  for (const auto& [key, member] : value.items()) {
-    const std::string member_path = join(path, key);
-    const Field* field = nullptr;
-    for (const Field& f : fields) {
-      if (f.key == key) field = &f;
-    }
-    if (field == nullptr) fail(member_path, "unknown key");
-    field->apply(member, member_path);
-  }
+// Users or groups: names, or numeric ids which are kept as their decimal strings.
+Field principals(std::string_view key, std::vector<std::string>& target) {
+  return {key, [&target](const json& value, const std::string& path) {
+            if (!value.is_array()) fail(path, fmt::format("expected an array, got {}", value.type_name()));
+            std::vector<std::string> out;
+            for (std::size_t i = 0; i < value.size(); ++i) {
+              const json& item = value[i];
+              const std::string item_path = fmt::format("{}[{}]", path, i);
+              if (item.is_string()) {
+                out.push_back(item.get<std::string>());
+              } else if (item.is_number()) {
+                out.push_back(
+                    std::to_string(read_integer(item, item_path, 0, std::numeric_limits<std::uint32_t>::max())));
+              } else {
+                fail(item_path, fmt::format("expected a string or a non-negative integer, got {}", item.type_name()));
+              }
+            }
+            target = std::move(out);
+          }};
 }
 
 std::string syntax_error_message(const json::parse_error& error) {
@@ -193,90 +136,35 @@ GatewayConfig parse_config(std::string_view text, GatewayConfig base) {
 
 void apply_config(const json& document, GatewayConfig& config) {
   if (!document.is_object()) {
-    throw ConfigError(fmt::format("config: top level must be an object, got {}", describe(document)));
+    throw ConfigError(fmt::format("config: top level must be an object, got {}", document.type_name()));
   }
   GatewayConfig& c = config;
   apply_object(document, "", {
-    {"transport", [&](const json& v, const std::string& p) { c.transport = read_enum<Transport>(v, p); }},
-    {"serial", [&](const json& v, const std::string& p) {
-       apply_object(v, p, {
-         {"device", [&](const json& x, const std::string& q) { c.serial.device = read_string(x, q); }},
-         {"baud", [&](const json& x, const std::string& q) {
-            c.serial.baud = static_cast<std::uint32_t>(
-                read_integer(x, q, 0, std::numeric_limits<std::uint32_t>::max()));
-          }},
-       });
-     }},
-    {"can", [&](const json& v, const std::string& p) {
-       apply_object(v, p, {
-         {"interface", [&](const json& x, const std::string& q) { c.can.interface = read_string(x, q); }},
-         {"dialect", [&](const json& x, const std::string& q) { c.can.dialect = read_enum<Dialect>(x, q); }},
-         {"bitrate", [&](const json& x, const std::string& q) {
-            c.can.bitrate = static_cast<std::uint32_t>(
-                read_integer(x, q, 0, std::numeric_limits<std::uint32_t>::max()));
-          }},
-       });
-     }},
-    {"chassis", [&](const json& v, const std::string& p) {
-       apply_object(v, p, {
-         {"type", [&](const json& x, const std::string& q) { c.chassis.type = read_enum<ChassisType>(x, q); }},
-         {"ackermann_z",
-          [&](const json& x, const std::string& q) { c.chassis.ackermann_z = read_enum<AckermannZ>(x, q); }},
-       });
-     }},
-    {"control", [&](const json& v, const std::string& p) {
-       apply_object(v, p, {
-         {"rate_hz", [&](const json& x, const std::string& q) { c.control.rate_hz = read_number(x, q); }},
-         {"command_timeout_s",
-          [&](const json& x, const std::string& q) { c.control.command_timeout_s = read_number(x, q); }},
-         {"auto_enable", [&](const json& x, const std::string& q) { c.control.auto_enable = read_bool(x, q); }},
-         {"enable_refresh_s",
-          [&](const json& x, const std::string& q) { c.control.enable_refresh_s = read_number(x, q); }},
-         {"disable_on_exit",
-          [&](const json& x, const std::string& q) { c.control.disable_on_exit = read_bool(x, q); }},
-         {"limits", [&](const json& x, const std::string& q) {
-            apply_object(x, q, {
-              {"vx", [&](const json& y, const std::string& r) { c.control.limits.vx = read_number(y, r); }},
-              {"vy", [&](const json& y, const std::string& r) { c.control.limits.vy = read_number(y, r); }},
-              {"wz", [&](const json& y, const std::string& r) { c.control.limits.wz = read_number(y, r); }},
-            });
-          }},
-       });
-     }},
-    {"telemetry", [&](const json& v, const std::string& p) {
-       apply_object(v, p, {
-         {"timeout_s", [&](const json& x, const std::string& q) { c.telemetry.timeout_s = read_number(x, q); }},
-         {"low_battery_v",
-          [&](const json& x, const std::string& q) { c.telemetry.low_battery_v = read_number(x, q); }},
-       });
-     }},
-    {"api", [&](const json& v, const std::string& p) {
-       apply_object(v, p, {
-         {"socket", [&](const json& x, const std::string& q) { c.api.socket = read_string(x, q); }},
-         {"mode", [&](const json& x, const std::string& q) { c.api.mode = read_mode(x, q); }},
-         {"group", [&](const json& x, const std::string& q) {
-            if (x.is_null()) {
-              c.api.group.reset();
-            } else if (x.is_string()) {
-              c.api.group = x.get<std::string>();
-            } else {
-              fail(q, fmt::format("expected a string or null, got {}", describe(x)));
-            }
-          }},
-         {"max_clients", [&](const json& x, const std::string& q) {
-            c.api.max_clients = static_cast<int>(
-                read_integer(x, q, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
-          }},
-         {"control_users", [&](const json& x, const std::string& q) { c.api.control_users = read_principals(x, q); }},
-         {"control_groups",
-          [&](const json& x, const std::string& q) { c.api.control_groups = read_principals(x, q); }},
-       });
-     }},
-    {"log", [&](const json& v, const std::string& p) {
-       apply_object(v, p, {
-         {"level", [&](const json& x, const std::string& q) { c.log.level = read_string(x, q); }},
-       });
-     }},
+    choice("transport", c.transport),
+    object("serial", {text("device", c.serial.device), integer("baud", c.serial.baud)}),
+    object("can", {text("interface", c.can.interface), choice("dialect", c.can.dialect),
+                   integer("bitrate", c.can.bitrate)}),
+    object("chassis", {choice("type", c.chassis.type), choice("ackermann_z", c.chassis.ackermann_z)}),
+    object("control", {
+      number("rate_hz", c.control.rate_hz),
+      number("command_timeout_s", c.control.command_timeout_s),
+      boolean("auto_enable", c.control.auto_enable),
+      number("enable_refresh_s", c.control.enable_refresh_s),
+      boolean("disable_on_exit", c.control.disable_on_exit),
+      object("limits", {number("vx", c.control.limits.vx), number("vy", c.control.limits.vy),
+                        number("wz", c.control.limits.wz)}),
+    }),
+    object("telemetry", {number("timeout_s", c.telemetry.timeout_s),
+                         number("low_battery_v", c.telemetry.low_battery_v)}),
+    object("api", {
+      text("socket", c.api.socket),
+      mode("mode", c.api.mode),
+      optional_text("group", c.api.group),
+      integer("max_clients", c.api.max_clients),
+      principals("control_users", c.api.control_users),
+      principals("control_groups", c.api.control_groups),
+    }),
+    object("log", {text("level", c.log.level)}),
   });
 }
 
