@@ -82,9 +82,8 @@ struct DriveCase {
 
 TEST_F(SerialCommands, DriveIsSentAtOnceRoundedAndClamped) {
   fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_up();
+  SerialDaemon& daemon = start_daemon_ready();
   auto client = daemon.connect();
-  ASSERT_TRUE(wait_for_status(client, phase_is("ready"), 3s)) << logs();
 
   const std::vector<DriveCase> cases{
       {{{"vx", 0.2}}, 200, 0, 0, false},
@@ -138,9 +137,8 @@ TEST_F(SerialCommands, AckermannSendsZAsAYawRateEvenInSteeringAngleMode) {
   DaemonOptions options;
   options.extra_arguments = {"--chassis", "ackermann"};
   options.config_patch = {{"chassis", {{"ackermann_z", "steering_angle"}}}};
-  SerialDaemon& daemon = start_daemon_up(options);
+  SerialDaemon& daemon = start_daemon_ready(options);
   auto client = daemon.connect();
-  ASSERT_TRUE(wait_for_status(client, phase_is("ready"), 3s)) << logs();
   EXPECT_EQ(client.call("status")["chassis"]["type"], "ackermann");
 
   const std::vector<DriveCase> cases{
@@ -170,9 +168,8 @@ TEST_F(SerialCommands, AckermannSendsZAsAYawRateEvenInSteeringAngleMode) {
 
 TEST_F(SerialCommands, DisableSendsZeroThenNothingUntilEnable) {
   fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_up();
+  SerialDaemon& daemon = start_daemon_ready();
   auto client = daemon.connect();
-  ASSERT_TRUE(wait_for_status(client, phase_is("ready"), 3s)) << logs();
   std::size_t from = fake_->command_count();
   ASSERT_TRUE(client.request("drive", {{"vx", 0.2}}).contains("result"));
   ASSERT_TRUE(fake_->wait_command([](const CommandSeen& f) { return f.x == 200; }, 500ms, from));

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <csignal>
 #include <thread>
 
@@ -13,11 +14,18 @@ namespace {
 
 using SerialControl = SerialTest;
 
+// A drive of vx (m/s) accepted and its frame on the port within 500 ms.
+bool drive_is_on_the_port(RpcConnection& client, FakeController& fake, double vx) {
+  const std::size_t from = fake.command_count();
+  if (!client.request("drive", {{"vx", vx}}).contains("result")) return false;
+  const auto millimetres = static_cast<std::int16_t>(std::lround(vx * 1000));
+  return fake.wait_command([&](const CommandSeen& f) { return f.x == millimetres; }, 500ms, from).has_value();
+}
+
 TEST_F(SerialControl, DeadmanZeroesAndReleasesControlAfterCommandTimeout) {
   fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_up();
+  SerialDaemon& daemon = start_daemon_ready();
   auto client = daemon.connect();
-  ASSERT_TRUE(wait_for_status(client, phase_is("ready"), 3s)) << logs();
 
   const std::size_t from = fake_->command_count();
   ASSERT_TRUE(client.request("drive", {{"vx", 0.2}}).contains("result"));
@@ -49,9 +57,8 @@ TEST_F(SerialControl, DeadmanZeroesAndReleasesControlAfterCommandTimeout) {
 
 TEST_F(SerialControl, RepeatedDrivesKeepControl) {
   fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_up();
+  SerialDaemon& daemon = start_daemon_ready();
   auto client = daemon.connect();
-  ASSERT_TRUE(wait_for_status(client, phase_is("ready"), 3s)) << logs();
   const std::size_t from = fake_->command_count();
   const auto start = SteadyClock::now();
   while (SteadyClock::now() - start < 1500ms) {
@@ -69,12 +76,9 @@ TEST_F(SerialControl, RepeatedDrivesKeepControl) {
 
 TEST_F(SerialControl, SigtermWritesZeroLastAndExitsZero) {
   fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_up();
+  SerialDaemon& daemon = start_daemon_ready();
   auto client = daemon.connect();
-  ASSERT_TRUE(wait_for_status(client, phase_is("ready"), 3s)) << logs();
-  const std::size_t from = fake_->command_count();
-  ASSERT_TRUE(client.request("drive", {{"vx", 0.3}}).contains("result"));
-  ASSERT_TRUE(fake_->wait_command([](const CommandSeen& f) { return f.x == 300; }, 500ms, from));
+  ASSERT_TRUE(drive_is_on_the_port(client, *fake_, 0.3)) << logs();
 
   const std::size_t before_signal = fake_->command_count();
   daemon.process().send_signal(SIGTERM);
@@ -101,12 +105,9 @@ TEST_F(SerialControl, SigtermWritesZeroLastAndExitsZero) {
 // sentinel writes the zero frame on the port in its place, through the port's descriptor.
 TEST_F(SerialControl, HungDaemonIsReplacedByTheSentinelsZeroFrame) {
   fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_up();
+  SerialDaemon& daemon = start_daemon_ready();
   auto client = daemon.connect();
-  ASSERT_TRUE(wait_for_status(client, phase_is("ready"), 3s)) << logs();
-  const std::size_t from = fake_->command_count();
-  ASSERT_TRUE(client.request("drive", {{"vx", 0.3}}).contains("result"));
-  ASSERT_TRUE(fake_->wait_command([](const CommandSeen& f) { return f.x == 300; }, 500ms, from));
+  ASSERT_TRUE(drive_is_on_the_port(client, *fake_, 0.3)) << logs();
 
   daemon.process().send_signal(SIGSTOP);
   const auto stopped = SteadyClock::now();

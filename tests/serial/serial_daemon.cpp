@@ -109,6 +109,16 @@ SerialDaemon& SerialTest::start_daemon_up(DaemonOptions options) {
   return daemon;
 }
 
+SerialDaemon& SerialTest::start_daemon_ready(DaemonOptions options) {
+  SerialDaemon& daemon = start_daemon_up(std::move(options));
+  auto client = daemon.connect();
+  Json last;
+  if (!wait_for_status(client, phase_is("ready"), 3s, &last)) {
+    throw std::runtime_error("the chassis was not ready within 3 s; last status " + last.dump() + "\n" + logs());
+  }
+  return daemon;
+}
+
 std::string SerialTest::logs() const {
   std::string text;
   for (const auto& daemon : daemons_) text += daemon->logs();

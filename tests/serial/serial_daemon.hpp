@@ -74,6 +74,8 @@ class SerialTest : public ::testing::Test {
   SerialDaemon& start_daemon(DaemonOptions options = {});
   // Starts the daemon and waits until its link is up (status bus.state "up").
   SerialDaemon& start_daemon_up(DaemonOptions options = {});
+  // ... and until the chassis is ready (phase "ready": the fake controller must be sending).
+  SerialDaemon& start_daemon_ready(DaemonOptions options = {});
   // Both processes' output, for failure messages.
   std::string logs() const;
 

@@ -53,9 +53,7 @@ TestCertificates make_test_certificates(const std::filesystem::path& directory) 
 void SerialWebTest::SetUp() {
   SerialTest::SetUp();
   fake_->start_telemetry(20ms);
-  serial_tests::SerialDaemon& daemon = start_daemon_up();
-  auto client = daemon.connect();
-  ASSERT_TRUE(serial_tests::wait_for_status(client, serial_tests::phase_is("ready"), 3s)) << logs();
+  start_daemon_ready();
   token_file_ = directory_->path() / "token";
   std::ofstream(token_file_) << kToken << "\n";
   std::filesystem::permissions(token_file_,
