@@ -8,6 +8,7 @@ readonly WHEELTEC_BUILD_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libboost-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libcli11-dev libsystemd-dev
   libmosquitto-dev libssl-dev
+  cyclonedds-dev cyclonedds-tools  # wheeltec-ros2's DDS, and idlc for its messages
 )
 # What running them on a virtual CAN interface needs (the demo and the vcan tests):
 # scripts/vcan-run, natively or inside User-Mode Linux.
@@ -19,7 +20,8 @@ readonly WHEELTEC_VCAN_PACKAGES=(can-utils iproute2 kmod user-mode-linux
 readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd util-linux jq
   mosquitto mosquitto-clients openssl  # the broker, its clients and TLS certificates of the wheeltec-mqtt suites
   curl  # HTTP requests of the systemd suite of wheeltec-web
-  chromium)  # wheeltec-web's browser suite
+  chromium  # wheeltec-web's browser suite
+  libfastrtps-dev fastddsgen)  # Fast DDS, ROS 2's default middleware: the ros2 suite's independent ROS 2 side
 
 # Prints the packages among the arguments that are not installed.
 missing_packages() {

@@ -1,0 +1,69 @@
+#pragma once
+
+// wheeltec-ros2's core (spec section 9, docs/ros2.md): the daemon's records out as ROS 2
+// topics, cmd_vel in as drives, and the daemon's state on diagnostics. Safety rules:
+//  - each cmd_vel is one drive, sent as it arrives and never repeated: when cmd_vel stops,
+//    the daemon's deadman stops the robot;
+//  - drives go over a daemon connection of their own, so a bridge that dies or stops is a
+//    closed connection, and the daemon stops the robot at once;
+//  - a cmd_vel with a non-finite value is dropped.
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include "wheeltec/client/own_connection.hpp"
+#include "wheeltec/client/subscription.hpp"
+
+#include "dds_endpoints.hpp"
+#include "diagnostics.hpp"
+#include "ros2_config.hpp"
+
+namespace wheeltec::ros2 {
+
+class Bridge {
+ public:
+  // Throws DdsError when the DDS participant or its endpoints cannot be made.
+  Bridge(boost::asio::io_context& io, Ros2Config config);
+  ~Bridge();
+
+  void start();
+  // No more cmd_vel; the daemon connections closed.
+  void stop();
+
+ private:
+  using Clock = std::chrono::steady_clock;
+
+  void handle_telemetry(const client::Telemetry& record);
+  void handle_status(const client::Status& status);
+  void daemon_down(const client::Subscription::Outage& outage);
+  void handle_cmd_vel(const geometry_msgs_msg_dds__Twist_& twist);
+  void drive_answered(boost::system::error_code ec, const client::Json& result);
+  void publish(DdsWriter& writer, const void* sample, const char* topic);
+  void publish_diagnostics();
+  void run_diagnostics_timer();
+
+  boost::asio::io_context& io_;
+  Ros2Config config_;
+  client::Subscription daemon_;
+  client::OwnConnection driver_;
+  DdsParticipant participant_;
+  DdsWriter odom_;
+  DdsWriter imu_;
+  DdsWriter voltage_;
+  std::optional<DdsWriter> tf_;
+  DdsWriter diagnostics_;
+  std::unique_ptr<TwistReader> cmd_vel_;
+  boost::asio::steady_timer diagnostics_timer_;
+  std::optional<client::Status> status_;  // none while the daemon is unreachable
+  Clock::time_point next_voltage_{};
+  RefusalRecord refusals_;
+  BridgeCounters counters_;
+  bool write_failure_logged_ = false;
+};
+
+}  // namespace wheeltec::ros2

@@ -1,0 +1,111 @@
+#include "dds_endpoints.hpp"
+
+#include <memory>
+
+#include <fmt/format.h>
+
+namespace wheeltec::ros2 {
+namespace {
+
+struct QosDeleter {
+  void operator()(dds_qos_t* qos) const { dds_delete_qos(qos); }
+};
+using Qos = std::unique_ptr<dds_qos_t, QosDeleter>;
+
+Qos new_qos() { return Qos(dds_create_qos()); }
+
+dds_entity_t check(dds_entity_t entity, const std::string& what) {
+  if (entity < 0) throw DdsError(fmt::format("{}: {}", what, dds_strretcode(entity)));
+  return entity;
+}
+
+// rmw_cyclonedds and rmw_fastrtps both speak XCDR1 only.
+void set_xcdr1(dds_qos_t* qos) {
+  const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
+  dds_qset_data_representation(qos, 1, &xcdr1);
+}
+
+dds_entity_t topic_of(const DdsParticipant& participant, const std::string& topic, const dds_topic_descriptor_t& type) {
+  return check(dds_create_topic(participant.handle(), &type, topic.c_str(), nullptr, nullptr),
+               fmt::format("DDS topic {} ({})", topic, type.m_typename));
+}
+
+}  // namespace
+
+std::string localhost_configuration() {
+  return "<CycloneDDS><Domain id=\"any\"><General><Interfaces><NetworkInterface address=\"127.0.0.1\"/>"
+         "</Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery>"
+         "<ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>32</MaxAutoParticipantIndex>"
+         "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery></Domain></CycloneDDS>";
+}
+
+DdsParticipant::DdsParticipant(int domain_id, const std::optional<std::string>& configuration) {
+  const auto domain = static_cast<dds_domainid_t>(domain_id);
+  if (configuration) {
+    domain_ = check(dds_create_domain(domain, configuration->c_str()), fmt::format("DDS domain {}", domain_id));
+  }
+  // As rmw_cyclonedds marks its participants; ROS 2's graph tools read it.
+  Qos qos = new_qos();
+  static constexpr char kEnclave[] = "enclave=/;";
+  dds_qset_userdata(qos.get(), kEnclave, sizeof kEnclave - 1);
+  try {
+    participant_ = check(dds_create_participant(domain, qos.get(), nullptr), fmt::format("DDS participant on domain {}", domain_id));
+  } catch (...) {
+    if (domain_ > 0) dds_delete(domain_);
+    throw;
+  }
+}
+
+DdsParticipant::~DdsParticipant() {
+  dds_delete(participant_);
+  if (domain_ > 0) dds_delete(domain_);
+}
+
+DdsWriter::DdsWriter(const DdsParticipant& participant, const std::string& topic, const dds_topic_descriptor_t& type,
+                     int depth) {
+  Qos qos = new_qos();
+  // A KEEP_LAST writer drops its oldest sample rather than wait; the blocking time only bounds
+  // a write while Cyclone's own buffers are full.
+  dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, DDS_MSECS(10));
+  dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, depth);
+  set_xcdr1(qos.get());
+  writer_ = check(dds_create_writer(participant.handle(), topic_of(participant, topic, type), qos.get(), nullptr),
+                  fmt::format("DDS writer of {}", topic));
+}
+
+bool DdsWriter::write(const void* sample) {
+  const dds_return_t result = dds_write(writer_, sample);
+  if (result >= 0) return true;
+  error_ = dds_strretcode(result);
+  return false;
+}
+
+TwistReader::TwistReader(const DdsParticipant& participant, const std::string& topic, Handler handler)
+    : handler_(std::move(handler)) {
+  Qos qos = new_qos();
+  dds_qset_reliability(qos.get(), DDS_RELIABILITY_BEST_EFFORT, 0);
+  dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, 1);
+  set_xcdr1(qos.get());
+  dds_listener_t* listener = dds_create_listener(this);
+  dds_lset_data_available(listener, &TwistReader::on_data_available);
+  reader_ = dds_create_reader(participant.handle(), topic_of(participant, topic, geometry_msgs_msg_dds__Twist__desc),
+                              qos.get(), listener);
+  dds_delete_listener(listener);
+  check(reader_, fmt::format("DDS reader of {}", topic));
+}
+
+TwistReader::~TwistReader() { dds_delete(reader_); }
+
+void TwistReader::on_data_available(dds_entity_t reader, void* self) {
+  auto& twist_reader = *static_cast<TwistReader*>(self);
+  geometry_msgs_msg_dds__Twist_ twist{};
+  void* samples[1] = {&twist};
+  dds_sample_info_t info{};
+  while (dds_take(reader, samples, &info, 1, 1) > 0) {
+    if (info.valid_data) twist_reader.handler_(twist);
+  }
+}
+
+}  // namespace wheeltec::ros2

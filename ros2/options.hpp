@@ -1,0 +1,33 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "ros2_config.hpp"
+
+namespace wheeltec::ros2 {
+
+inline constexpr const char* kDefaultConfigFile = "/etc/wheeltec-ros2/wheeltec-ros2.json";
+
+// The command line of wheeltec-ros2 (spec section 9). Flags that were not given are empty.
+struct Options {
+  std::optional<std::string> config_file;
+  std::optional<std::string> socket;
+  std::optional<int> domain_id;
+  bool localhost_only = false;
+  std::optional<std::string> name_space;
+  bool no_tf = false;
+  std::optional<std::string> log_level;
+};
+
+// On --help or --version the result is exit code 0; on bad usage a one-line error goes to
+// stderr and the result is exit code 2.
+std::variant<Options, int> parse_command_line(int argc, char** argv);
+
+// Defaults, ROS 2's environment (ROS_DOMAIN_ID, ROS_LOCALHOST_ONLY,
+// ROS_AUTOMATIC_DISCOVERY_RANGE), the config file (--config, else kDefaultConfigFile when it
+// exists), the flags. Validated; throws ConfigError naming the file, variable or flag and the key.
+Ros2Config load_config(const Options& options);
+
+}  // namespace wheeltec::ros2
