@@ -73,7 +73,7 @@ void Bridge::start() {
   cmd_vel_ = std::make_unique<TwistReader>(
       participant_, dds_topic(config_.name_space, "cmd_vel"),
       [this](const geometry_msgs_msg_dds__Twist_& twist) {
-        boost::asio::post(io_, [this, twist] { handle_cmd_vel(twist); });
+        if (cmd_vel_mailbox_.put(twist)) boost::asio::post(io_, [this] { handle_cmd_vel(); });
       });
   daemon_.start();
   run_diagnostics_timer();
@@ -143,15 +143,16 @@ void Bridge::run_diagnostics_timer() {
 
 // --- in: cmd_vel ---
 
-void Bridge::handle_cmd_vel(const geometry_msgs_msg_dds__Twist_& twist) {
+void Bridge::handle_cmd_vel() {
+  const TwistMailbox::Mail mail = cmd_vel_mailbox_.take();
   if (!cmd_vel_) return;  // stopped
-  ++counters_.cmd_vel_received;
-  const std::optional<client::Velocity> velocity = drive_of(twist);
-  if (!velocity) {
-    if (counters_.cmd_vel_dropped_non_finite++ == 0) spdlog::warn("cmd_vel with a non-finite value dropped");
-    return;
+  counters_.cmd_vel_received += mail.received;
+  if (mail.non_finite > 0 && counters_.cmd_vel_dropped_non_finite == 0) {
+    spdlog::warn("cmd_vel with a non-finite value dropped (counted in diagnostics from now on)");
   }
-  driver_.drive(*velocity, [this](boost::system::error_code ec, const client::Json& result) {
+  counters_.cmd_vel_dropped_non_finite += mail.non_finite;
+  if (!mail.drive) return;
+  driver_.drive(*mail.drive, [this](boost::system::error_code ec, const client::Json& result) {
     if (ec != boost::asio::error::operation_aborted) drive_answered(ec, result);
   });
 }

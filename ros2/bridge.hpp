@@ -22,6 +22,7 @@
 #include "dds_endpoints.hpp"
 #include "diagnostics.hpp"
 #include "ros2_config.hpp"
+#include "twist_mailbox.hpp"
 
 namespace wheeltec::ros2 {
 
@@ -41,7 +42,7 @@ class Bridge {
   void handle_telemetry(const client::Telemetry& record);
   void handle_status(const client::Status& status);
   void daemon_down(const client::Subscription::Outage& outage);
-  void handle_cmd_vel(const geometry_msgs_msg_dds__Twist_& twist);
+  void handle_cmd_vel();
   void drive_answered(boost::system::error_code ec, const client::Json& result);
   void publish(DdsWriter& writer, const void* sample, const char* topic);
   void publish_diagnostics();
@@ -57,6 +58,7 @@ class Bridge {
   DdsWriter voltage_;
   std::optional<DdsWriter> tf_;
   DdsWriter diagnostics_;
+  TwistMailbox cmd_vel_mailbox_;
   std::unique_ptr<TwistReader> cmd_vel_;
   boost::asio::steady_timer diagnostics_timer_;
   std::optional<client::Status> status_;  // none while the daemon is unreachable

@@ -53,6 +53,9 @@ void check_frame(const std::string& frame, std::string_view key) {
 }  // namespace
 
 std::string normalize_namespace(std::string_view name_space, const std::string& key) {
+  if (name_space.find("//") != std::string_view::npos) {
+    fail(key, fmt::format("\"{}\" is not a ROS namespace", name_space));
+  }
   std::string_view rest = name_space;
   if (!rest.empty() && rest.front() == '/') rest.remove_prefix(1);
   if (!rest.empty() && rest.back() == '/') rest.remove_suffix(1);

@@ -14,7 +14,7 @@
 # (latency bounds, control periods) are listed but do not fail this stage: the plain
 # ctest run, before the stages, is where the tests' own verdict counts.
 #   MEMCHECK_DIR   where the wrappers and logs go (default $BUILD_DIR-memcheck)
-#   MEMCHECK_JOBS  suites run at once (default 2)
+#   MEMCHECK_JOBS  suites run at once (default 3)
 set -euo pipefail
 
 REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
@@ -56,10 +56,10 @@ export WHEELTEC_BIN_DIR=$work/bin WHEELTEC_TEST_START_ALLOWANCE_S=20
 suites=$(cd "$BUILD_DIR" && ctest -N -L vcan -LE soak | sed -n 's/^ *Test *#[0-9]*: integration\.\(.*\)$/\1/p' |
   grep -vx EmulatorFidelity)
 [[ -n $suites ]] || { echo "memcheck: no vcan suites found in $BUILD_DIR" >&2; exit 1; }
-# Two suites at a time, each in its own vcan-run session: under valgrind a suite spends
-# much of its time waiting, and timing failures do not count here. Process ids repeat
+# Three suites at a time, each in its own vcan-run session: under valgrind a suite spends
+# most of its time waiting, and timing failures do not count here. Process ids repeat
 # across sessions, so each log is named after its suite too.
-parallel=${MEMCHECK_JOBS:-2}
+parallel=${MEMCHECK_JOBS:-3}
 run_suite() {
   local suite=$1 status=0
   MEMCHECK_SUITE=$suite timeout 900 "$REPO_ROOT/scripts/vcan-run" -- "$BUILD_DIR/tests/integration/integration_tests" \

@@ -3,7 +3,7 @@
 # UndefinedBehaviorSanitizer (LeakSanitizer included), and runs each for a bounded time
 # from its seed corpus in fuzz/corpus/<target>/. Fails on any crash, leak, timeout or
 # sanitizer report; the reproducer is left in the build directory's fuzz-artifacts/.
-#   FUZZ_SECONDS   time per target (default 30)
+#   FUZZ_SECONDS   time per target (default 20)
 #   FUZZ_BUILD_DIR build directory (default $BUILD_DIR-fuzz)
 set -euo pipefail
 
@@ -13,7 +13,7 @@ BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
 source "$REPO_ROOT/scripts/lib/setup.sh"
 install_packages clang-14 libclang-rt-14-dev
 
-seconds=${FUZZ_SECONDS:-30}
+seconds=${FUZZ_SECONDS:-20}
 build=${FUZZ_BUILD_DIR:-$BUILD_DIR-fuzz}
 jobs=${BUILD_JOBS:-2}
 targets=(rpc_line telemetry_frames link_messages candump_log config serial_frames mqtt_command web_foxglove)
