@@ -99,6 +99,7 @@ TEST_F(Ros2Bridge, AKilledBridgeStopsTheChassisAtOnce) {
 TEST_F(Ros2Bridge, CmdVelWithANonFiniteValueIsDropped) {
   start();
   CanBus bus(integration::test_interface());
+  DiagnosticsReader diagnostics(participant(), "rt/diagnostics", ros2_side::RosQos::default_profile);
   CmdVelWriter writer(participant(), "rt/cmd_vel", Reliability::reliable, 10);
   ASSERT_TRUE(writer.wait_matched(kMatchTimeout));
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -112,6 +113,27 @@ TEST_F(Ros2Bridge, CmdVelWithANonFiniteValueIsDropped) {
                          << integration::to_text(moving->frame);
   }
   ASSERT_TRUE(bridge().running()) << "the bridge died of a non-finite cmd_vel";
+  // Dropped by the bridge and counted, not forwarded for the daemon to refuse.
+  const auto counted = diagnostics.wait_for(
+      [](const auto& sample) {
+        if (sample.message.status().empty()) return false;
+        const auto& values = sample.message.status().front().values();
+        return std::any_of(values.begin(), values.end(), [](const auto& value) {
+          return value.key() == "cmd_vel_dropped_non_finite" && value.value() != "0";
+        });
+      },
+      2s);
+  EXPECT_TRUE(counted) << "diagnostics do not count the dropped cmd_vel (cmd_vel_dropped_non_finite)";
+  const auto refused = diagnostics.wait_for(
+      [](const auto& sample) {
+        if (sample.message.status().empty()) return false;
+        const auto& values = sample.message.status().front().values();
+        return std::any_of(values.begin(), values.end(), [](const auto& value) {
+          return value.key() == "drives_refused" && value.value() != "0";
+        });
+      },
+      0ms);
+  EXPECT_FALSE(refused) << "a non-finite cmd_vel reached the daemon, which refused it";
   // Still listening: the next good cmd_vel drives.
   RepeatingPublisher good(writer, kCmdVel, kPublishPeriod);
   EXPECT_TRUE(bus.wait_for(is_cmd_vel_frame, 2s)) << "a good cmd_vel after the bad ones did not drive";
