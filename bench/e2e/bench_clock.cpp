@@ -16,6 +16,12 @@ double now_us() {
   return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) / 1e3;
 }
 
+std::int64_t realtime_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
 ProcessSample sample_process(pid_t pid) {
   const std::string dir = "/proc/" + std::to_string(pid);
   std::ifstream stat_file(dir + "/stat");

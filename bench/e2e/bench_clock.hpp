@@ -9,6 +9,10 @@ namespace bench {
 // CLOCK_MONOTONIC in microseconds.
 double now_us();
 
+// CLOCK_REALTIME in nanoseconds: the clock of the kernel's CAN receive timestamps
+// (SO_TIMESTAMPNS) and of the telemetry records' `time`.
+std::int64_t realtime_ns();
+
 // What /proc says about a process: CPU time, context switches (each voluntary one is a
 // wakeup from a blocking wait) and resident memory.
 struct ProcessSample {

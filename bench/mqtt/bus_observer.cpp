@@ -11,7 +11,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "mqtt_endpoints.hpp"
+#include "bench_clock.hpp"  // realtime_ns()
 #include "wheeltec/asio_can/frame_io.hpp"
 
 namespace bench {

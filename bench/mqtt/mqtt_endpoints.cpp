@@ -23,12 +23,6 @@ constexpr int kKeepaliveS = 60;
 
 }  // namespace
 
-std::int64_t realtime_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
 MqttSubscriber::MqttSubscriber(const std::string& host, int port, const std::string& client_id,
                                const std::vector<std::string>& filters) {
   library_init();

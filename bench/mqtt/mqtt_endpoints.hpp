@@ -13,14 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "bench_clock.hpp"  // realtime_ns()
+
 struct mosquitto;
 struct mosquitto_message;
 
 namespace bench {
-
-// CLOCK_REALTIME in nanoseconds: the clock of the kernel's CAN receive timestamps
-// (SO_TIMESTAMPNS) and of the telemetry records' `time`.
-std::int64_t realtime_ns();
 
 class MqttSubscriber {
  public:

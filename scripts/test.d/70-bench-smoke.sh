@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Test stage: the benchmarks still build and run. Each microbenchmark runs for a few
 # milliseconds and must not report an error, the serial-link benchmark runs once in its quick
-# mode (natively, on a pseudo-terminal), and the wheeltec-mqtt and wheeltec-web benchmarks
-# run once in their quick modes (inside scripts/vcan-run); each must report its figures.
-# Nothing is timed or compared here (the figures come from scripts/bench.sh,
-# scripts/bench-mqtt.sh and scripts/bench-web.sh, see docs/performance.md).
+# mode (natively, on a pseudo-terminal), and the wheeltec-mqtt, wheeltec-ros2 and wheeltec-web
+# benchmarks run once in their quick modes (inside scripts/vcan-run); each must report its
+# figures. Nothing is timed or compared here (the figures come from scripts/bench.sh,
+# scripts/bench-mqtt.sh, scripts/bench-ros2.sh and scripts/bench-web.sh, see docs/performance.md).
 set -euo pipefail
 
 REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
@@ -95,6 +95,46 @@ if problems:
 print(f"bench smoke: wheeltec-mqtt benchmark ran ({m['elapsed_s']:.0f} s inside the VM; "
       f"{len(m['scaling'])} scaling steps)")
 PY
+
+# The wheeltec-ros2 benchmark's quick mode (about 45 s): cmd_vel and odom latencies against a
+# Fast DDS peer, next to the daemon's own, and the bridge's CPU per record and memory. Every
+# figure must be there; none is compared.
+ros2_out=$(mktemp -d)
+if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$ros2_out "$REPO_ROOT/scripts/bench-ros2.sh" --quick >"$ros2_out/output.txt" 2>&1; then
+  cat "$ros2_out/output.txt" >&2
+  rm -rf "$ros2_out"
+  echo "bench smoke: scripts/bench-ros2.sh --quick failed" >&2
+  exit 1
+fi
+if ! python3 - "$ros2_out/ros2.json" <<'PY'
+import json, sys
+try:
+    r = json.load(open(sys.argv[1]))
+except (OSError, ValueError) as problem:
+    sys.exit(f"bench smoke: the wheeltec-ros2 benchmark wrote no figures: {problem}")
+problems = list(r.get("errors", []))
+figures = {
+    "cmd_vel timed to the bus": r["drives"]["via_ros2"]["count"],
+    "drives on the daemon's socket": r["drives"]["direct_wheeltecd"]["count"],
+    "odom samples matched at the Fast DDS reader": r["telemetry"]["via_ros2"]["count"],
+    "telemetry records matched at the direct subscriber": r["telemetry"]["direct_wheeltecd_subscriber"]["count"],
+    "records published in the CPU window": r["cpu_per_record"]["records_published"],
+    "VmRSS of wheeltec-ros2": r["memory"]["wheeltec_ros2"]["rss_kib"],
+    "VmHWM of wheeltec-ros2": r["memory"]["wheeltec_ros2"]["hwm_kib"],
+}
+problems += [f"no {name}" for name, value in figures.items() if not value]
+if "bridge_us_per_record" not in r["cpu_per_record"]:
+    problems.append("no CPU per record of wheeltec-ros2")
+if problems:
+    sys.exit("bench smoke: wheeltec-ros2 benchmark: " + "; ".join(problems))
+print(f"bench smoke: wheeltec-ros2 benchmark ran ({r['elapsed_s']:.0f} s inside the VM; "
+      f"{r['drives']['via_ros2']['count']} cmd_vel and {r['telemetry']['via_ros2']['count']} odom samples timed)")
+PY
+then
+  rm -rf "$ros2_out"
+  exit 1
+fi
+rm -rf "$ros2_out"
 
 # The wheeltec-web benchmark's quick mode (about a minute): 8 Foxglove clients and the page in
 # headless Chromium, and 8 over wss://, must each have received records, and the CPU and memory figures be there.

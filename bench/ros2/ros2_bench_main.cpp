@@ -1,0 +1,888 @@
+// wheeltec-bench-ros2: figures of wheeltec-ros2, the ROS 2 bridge (issue #22 item 8, measured
+// as issue #23 asks of every bridge), against an independent ROS 2 side (Fast DDS 2.9 set up as
+// rmw_fastrtps, the ros2 suite's library), with the emulator and wheeltecd on vcan0 and
+// everything on loopback (run it through scripts/vcan-run; scripts/bench-ros2.sh does). Not a
+// test: it prints figures.
+//
+//  1. Command latency: a cmd_vel (geometry_msgs/Twist) published by this program's Fast DDS
+//     writer, RELIABLE as teleop_twist_keyboard's, to the first 0x121 frame carrying its
+//     velocity on the bus (kernel receive timestamp); next to the same drive written on
+//     wheeltecd's socket directly, in alternating blocks.
+//  2. Telemetry latency: the 0x103 frame on the bus (kernel receive timestamp, which is also
+//     the record's `time` and so odom's header stamp) to this program's odom reader getting
+//     that sample; next to a direct subscriber of the same wheeltecd.
+//  3. The bridge's CPU per record (utime+stime from /proc over the telemetry window divided by
+//     the records it published in it), its memory (VmRSS, VmHWM) and, with --strace, its
+//     system calls per record.
+// When it may open a packet socket on lo (root, as in User-Mode Linux), both latencies are also
+// split where the message crossed between the two DDS sides: the kernel timestamp of the
+// cmd_vel or odom datagram on loopback (bench/ros2/loopback_capture.hpp).
+// Prints markdown tables on stdout and writes every figure as JSON (--json).
+
+#include <poll.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "wheeltec/asio_can/frame_io.hpp"
+
+#include "bench_clock.hpp"
+#include "bus_observer.hpp"
+#include "can_endpoint.hpp"
+#include "child_program.hpp"
+#include "fleet_processes.hpp"
+#include "latency_stats.hpp"
+#include "loopback_capture.hpp"
+#include "process_profile.hpp"
+#include "ros2_peer.hpp"
+#include "subscriber_set.hpp"
+
+namespace {
+
+using nlohmann::json;
+using namespace bench;
+namespace fs = std::filesystem;
+using std::chrono::milliseconds;
+
+constexpr const char* kInterface = "vcan0";
+
+struct Settings {
+  FleetPrograms programs;  // mosquitto unused
+  std::string json_path;
+  std::string work_dir;  // default: a new directory in /tmp, removed at the end
+  double telemetry_s = 20.0;
+  int drives = 300;  // cmd_vel, and as many drives on the daemon's socket
+  int drive_block = 50;
+  double drive_interval_ms = 100.0;  // teleop repeats its Twist at 10 Hz
+  int domain_id = 42;
+  bool all_readers = false;  // imu and tf read too, not odom alone
+  bool best_effort_readers = false;  // odom (and imu, tf) read as robot_localization does: sensor data QoS
+  bool quick = false;
+  std::string strace;  // given: the bridge's system calls per record counted
+};
+
+void usage() {
+  std::cout << "usage: wheeltec-bench-ros2 --wheeltecd PATH --emulator PATH --bridge PATH (wheeltec-ros2)\n"
+               "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
+               "       [--drive-interval-ms MS] [--domain-id N] [--all-readers] [--best-effort-readers] [--strace PATH]\n"
+               "Readers: odom (--all-readers: odom, imu and tf), RELIABLE KEEP_LAST 10 as a default rclcpp\n"
+               "subscriber (imu with sensor data QoS); --best-effort-readers: all with sensor data QoS (BEST_EFFORT).\n"
+               "Runs where vcan0 exists and loopback is up (scripts/vcan-run); see scripts/bench-ros2.sh.\n"
+               "ROS_DOMAIN_ID, ROS_LOCALHOST_ONLY, ROS_AUTOMATIC_DISCOVERY_RANGE, CYCLONEDDS_URI and\n"
+               "FASTRTPS_DEFAULT_PROFILES_FILE are ignored (unset for the bridge and this program's participant).\n";
+}
+
+Settings parse_arguments(int argc, char** argv) {
+  Settings s;
+  bool telemetry_given = false, drives_given = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string key = argv[i];
+    if (key == "--help" || key == "-h") {
+      usage();
+      std::exit(0);
+    }
+    if (key == "--quick") {
+      s.quick = true;
+      continue;
+    }
+    if (key == "--all-readers") {
+      s.all_readers = true;
+      continue;
+    }
+    if (key == "--best-effort-readers") {
+      s.best_effort_readers = true;
+      continue;
+    }
+    if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
+    const std::string value = argv[++i];
+    if (key == "--wheeltecd") s.programs.wheeltecd = value;
+    else if (key == "--emulator") s.programs.emulator = value;
+    else if (key == "--bridge") s.programs.bridge = value;
+    else if (key == "--json") s.json_path = value;
+    else if (key == "--work-dir") s.work_dir = value;
+    else if (key == "--telemetry-seconds") s.telemetry_s = std::stod(value), telemetry_given = true;
+    else if (key == "--drives") s.drives = std::stoi(value), drives_given = true;
+    else if (key == "--drive-interval-ms") s.drive_interval_ms = std::stod(value);
+    else if (key == "--domain-id") s.domain_id = std::stoi(value);
+    else if (key == "--strace") s.strace = value;
+    else throw std::invalid_argument("unknown option " + key);
+  }
+  if (s.quick) {
+    if (!telemetry_given) s.telemetry_s = 3.0;
+    if (!drives_given) s.drives = 20;
+    s.drive_block = 10;
+  }
+  if (s.programs.wheeltecd.empty() || s.programs.emulator.empty() || s.programs.bridge.empty()) {
+    throw std::invalid_argument("--wheeltecd, --emulator and --bridge are required");
+  }
+  if (s.drives < 2 || s.telemetry_s <= 0 || s.drive_interval_ms <= 0) throw std::invalid_argument("nothing to measure");
+  if (s.domain_id < 0 || s.domain_id > 232) throw std::invalid_argument("--domain-id: 0 to 232");
+  return s;
+}
+
+void sleep_ms(double ms) { std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(ms * 1000))); }
+
+// ---- telemetry: bus frames matched with what a reader received ----
+
+struct TelemetryMatch {
+  std::size_t on_bus = 0;     // 0x103 frames in the window
+  std::size_t delivered = 0;  // of those, records the reader received
+  std::vector<double> latency_us;
+  std::size_t lost() const { return on_bus - delivered; }
+};
+
+// `receipts`: (record time in us, received at ns). Frames with a kernel timestamp in
+// [from_ns, to_ns) count. As bench/mqtt matches them: the record's `time` is the frame's
+// timestamp at the daemon's socket, truncated to the microsecond.
+TelemetryMatch match_records(const std::vector<std::int64_t>& frames_ns,
+                             const std::vector<std::pair<std::int64_t, std::int64_t>>& receipts, std::int64_t from_ns,
+                             std::int64_t to_ns) {
+  std::unordered_map<std::int64_t, std::int64_t> by_time;
+  by_time.reserve(receipts.size());
+  for (const auto& [time_us, received_ns] : receipts) by_time.emplace(time_us, received_ns);
+  TelemetryMatch match;
+  for (const std::int64_t frame_ns : frames_ns) {
+    if (frame_ns < from_ns || frame_ns >= to_ns) continue;
+    ++match.on_bus;
+    const std::int64_t key = frame_ns / 1000;
+    for (const std::int64_t candidate : {key, key - 1, key + 1}) {
+      const auto found = by_time.find(candidate);
+      if (found == by_time.end()) continue;
+      ++match.delivered;
+      match.latency_us.push_back(static_cast<double>(found->second - frame_ns) / 1e3);
+      break;
+    }
+  }
+  return match;
+}
+
+json samples_json(std::vector<double> samples_us) {
+  for (auto& sample : samples_us) sample = std::round(sample);
+  return samples_us;
+}
+
+json match_json(const TelemetryMatch& match) {
+  json j = summarize(match.latency_us).to_json();
+  j["samples_us"] = samples_json(match.latency_us);
+  j["on_bus"] = match.on_bus;
+  j["delivered"] = match.delivered;
+  j["lost"] = match.lost();
+  return j;
+}
+
+// ---- /proc ----
+
+struct MachineCpu {
+  unsigned long long busy = 0, total = 0;  // jiffies of all CPUs (UML: its one vCPU)
+};
+
+MachineCpu machine_cpu() {
+  std::ifstream stat("/proc/stat");
+  std::string cpu;
+  stat >> cpu;
+  MachineCpu sample;
+  unsigned long long value = 0;
+  for (int field = 0; field < 8 && stat >> value; ++field) {
+    sample.total += value;
+    if (field != 3 && field != 4) sample.busy += value;  // idle and iowait are not busy
+  }
+  return sample;
+}
+
+double busy_pct(const MachineCpu& a, const MachineCpu& b) {
+  return b.total > a.total ? 100.0 * static_cast<double>(b.busy - a.busy) / static_cast<double>(b.total - a.total) : 0.0;
+}
+
+double cpu_s(pid_t pid) {
+  try {
+    return sample_process(pid).cpu_s;
+  } catch (const std::exception&) {
+    return 0.0;
+  }
+}
+
+int threads_of(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("Threads:", 0) == 0) return std::stoi(line.substr(8));
+  }
+  return 0;
+}
+
+json memory_json(pid_t pid) {
+  try {
+    const ProcessSample sample = sample_process(pid);
+    return {{"rss_kib", sample.rss_kib}, {"hwm_kib", sample.hwm_kib}, {"threads", threads_of(pid)}};
+  } catch (const std::exception&) {
+    return {{"rss_kib", 0}, {"hwm_kib", 0}, {"threads", 0}};
+  }
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a + " " + b + " " + c;
+}
+
+// The kernel's UDP counters (/proc/net/snmp): datagrams received and those dropped because a
+// socket's receive buffer was full, which a RELIABLE DDS reader recovers from only by a
+// retransmission (a heartbeat, then a NACK), holding back every sample after the lost one.
+json udp_counters() {
+  std::ifstream in("/proc/net/snmp");
+  std::vector<std::string> names, values;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("Udp: ", 0) != 0) continue;
+    std::istringstream words(line.substr(5));
+    std::vector<std::string>& into = names.empty() ? names : values;
+    for (std::string word; words >> word;) into.push_back(word);
+    if (!values.empty()) break;
+  }
+  json counters = json::object();
+  for (std::size_t i = 0; i < names.size() && i < values.size(); ++i) {
+    if (names[i] == "InDatagrams" || names[i] == "InErrors" || names[i] == "RcvbufErrors" || names[i] == "OutDatagrams") {
+      counters[names[i]] = std::stoull(values[i]);
+    }
+  }
+  return counters;
+}
+
+// UDP datagrams dropped at each process' sockets since they were opened (/proc/net/udp's
+// `drops`, by socket inode, matched with the inodes of /proc/PID/fd).
+json udp_drops_by_process(const std::vector<std::pair<std::string, pid_t>>& processes) {
+  std::map<std::string, std::uint64_t> drops_by_inode;
+  std::ifstream table("/proc/net/udp");
+  std::string line;
+  std::getline(table, line);  // the heading
+  while (std::getline(table, line)) {
+    std::istringstream fields(line);
+    std::vector<std::string> words;
+    for (std::string word; fields >> word;) words.push_back(word);
+    if (words.size() >= 13) drops_by_inode[words[9]] = std::stoull(words[12]);  // inode, drops
+  }
+  json result = json::object();
+  for (const auto& [name, pid] : processes) {
+    std::uint64_t drops = 0;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec)) {
+      const std::string target = fs::read_symlink(entry.path(), ec).string();
+      if (target.rfind("socket:[", 0) != 0) continue;
+      const auto found = drops_by_inode.find(target.substr(8, target.size() - 9));
+      if (found != drops_by_inode.end()) drops += found->second;
+    }
+    result[name] = drops;
+  }
+  return result;
+}
+
+// wheeltecd's counters that say whether a record was lost before the bridge: records accepted,
+// frame groups discarded, notifications a slow client (the bridge, or the direct subscriber)
+// did not get.
+json daemon_counters(const fs::path& socket) {
+  try {
+    LineClient client(socket);
+    client.send_line(R"({"jsonrpc":"2.0","id":1,"method":"stats"})");
+    const json reply = json::parse(client.read_line(2000));
+    const json& stats = reply.at("result");
+    std::uint64_t discarded = 0;
+    for (const auto& count : stats.value("groups_discarded", json::object())) discarded += count.get<std::uint64_t>();
+    return {{"records_accepted", stats.value("records_accepted", std::uint64_t{0})},
+            {"groups_discarded", discarded},
+            {"notifications_dropped", stats.value("notifications_dropped", std::uint64_t{0})},
+            {"clients_disconnected_slow", stats.value("clients_disconnected_slow", std::uint64_t{0})}};
+  } catch (const std::exception& error) {
+    return {{"error", error.what()}};
+  }
+}
+
+json counters_delta(const json& before, const json& after) {
+  json delta = json::object();
+  for (const auto& [key, value] : after.items()) {
+    if (value.is_number_unsigned() && before.contains(key)) delta[key] = value.get<std::uint64_t>() - before[key].get<std::uint64_t>();
+  }
+  return delta;
+}
+
+// The lines of a program's log at level warn or above (the first `most`).
+json log_warnings(const fs::path& log, std::size_t most = 10) {
+  json lines = json::array();
+  std::ifstream in(log);
+  for (std::string line; std::getline(in, line) && lines.size() < most;) {
+    if (line.find("warn") != std::string::npos || line.find("error") != std::string::npos) lines.push_back(line);
+  }
+  return lines;
+}
+
+// ---- drives ----
+
+struct DriveSeries {
+  std::vector<double> latency_us;
+  struct Timed {
+    int mm_per_s;
+    std::int64_t sent_ns, frame_ns;
+  };
+  std::vector<Timed> timed;  // each counted drive that reached the bus
+  int missed = 0;  // no frame with the velocity within 1 s
+  json to_json() const {
+    json j = summarize(latency_us).to_json();
+    j["missed"] = missed;
+    j["samples_us"] = samples_json(latency_us);
+    return j;
+  }
+};
+
+void drain(CanEndpoint& control) {
+  boost::system::error_code ec;
+  while (wheeltec::asio_can::receive_frame(control.fd(), ec)) {
+  }
+}
+
+bool has_enable_prefix(const wheeltec::CanFrame& frame) {
+  static constexpr std::uint8_t prefix[] = {0x0A, 0x0C, 0x0F, 0x13, 0x18, 0x1E, 0x25};
+  return std::equal(std::begin(prefix), std::end(prefix), frame.data.begin());
+}
+
+// The kernel receive time of the first 0x121 velocity frame with vx = mm_per_s, within 1 s.
+std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+  while (std::chrono::steady_clock::now() < deadline) {
+    boost::system::error_code ec;
+    auto received = wheeltec::asio_can::receive_frame(control.fd(), ec);
+    if (!received) {
+      pollfd ready{control.fd(), POLLIN, 0};
+      ::poll(&ready, 1, 50);
+      continue;
+    }
+    const auto& frame = received->frame;
+    if (frame.id != 0x121 || frame.dlc != 8 || has_enable_prefix(frame)) continue;
+    const int x = static_cast<std::int16_t>((frame.data[0] << 8) | frame.data[1]);
+    if (x == mm_per_s) return received->time.time_since_epoch().count();
+  }
+  return std::nullopt;
+}
+
+struct DriveResults {
+  DriveSeries ros2, direct;
+  std::vector<std::string> first_errors;
+};
+
+DriveResults measure_drives(const Settings& settings, Robot& robot, Ros2Peer& peer) {
+  CanEndpoint control(kInterface, {0x121});
+  LineClient stopper(robot.socket());  // any client's `stop` releases control, the bridge's too
+  DriveResults results;
+  int id = 0;
+  int mm_direct = 100, mm_ros2 = 300;  // each drive a new target: the daemon sends its frame at once
+  auto next_mm = [](int& mm, int base) { return mm = base + (mm - base + 1) % 100; };
+
+  auto ros2_drive = [&](bool counted) {
+    const int mm = next_mm(mm_ros2, 300);
+    drain(control);
+    const std::int64_t sent = peer.publish_cmd_vel(mm / 1000.0);
+    const auto frame = wait_for_control_frame(control, mm);
+    if (!counted) return;
+    if (frame) {
+      results.ros2.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
+      results.ros2.timed.push_back({mm, sent, *frame});
+    } else {
+      ++results.ros2.missed;
+    }
+  };
+  auto direct_drive = [&](LineClient& client, bool counted) {
+    const int mm = next_mm(mm_direct, 100);
+    drain(control);
+    const std::string line = fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{:.3f}}}}})",
+                                         ++id, mm / 1000.0);
+    const std::int64_t sent = realtime_ns();
+    client.send_line(line);
+    const auto frame = wait_for_control_frame(control, mm);
+    const std::string reply = client.read_line(2000);
+    if (reply.find("\"result\"") == std::string::npos && results.first_errors.size() < 5) {
+      results.first_errors.push_back("direct drive: " + reply);
+    }
+    if (!counted) return;
+    if (frame) results.direct.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
+    else ++results.direct.missed;
+  };
+  auto paced = [&](int count, auto&& one) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < count; ++i) {
+      std::this_thread::sleep_until(start + std::chrono::microseconds(static_cast<long long>(i * settings.drive_interval_ms * 1000)));
+      one();
+    }
+  };
+  auto stop = [&](LineClient& client) {
+    client.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"stop"}})", ++id));
+    const std::string reply = client.read_line(2000);
+    if (reply.find("\"result\"") == std::string::npos && results.first_errors.size() < 5) {
+      results.first_errors.push_back("stop: " + reply);
+    }
+  };
+
+  // Warm-up: the bridge opens its driving connection to the daemon on its first cmd_vel.
+  paced(3, [&] { ros2_drive(false); });
+  stop(stopper);
+  {
+    LineClient client(robot.socket());
+    paced(3, [&] { direct_drive(client, false); });
+    stop(client);
+  }
+  // Alternating blocks, so that both paths see the same load on the host.
+  for (int done = 0; done < settings.drives; done += settings.drive_block) {
+    const int n = std::min(settings.drive_block, settings.drives - done);
+    {
+      LineClient client(robot.socket());
+      paced(n, [&] { direct_drive(client, true); });
+      stop(client);
+    }  // closed: control released
+    paced(n, [&] { ros2_drive(true); });
+    stop(stopper);
+  }
+  return results;
+}
+
+// ---- the latencies split where the message crossed loopback (LoopbackCapture) ----
+
+struct Split {
+  std::vector<double> first_us, second_us;  // before and after the datagram on lo
+  json to_json(const char* first, const char* second) const {
+    json j = {{first, summarize(first_us).to_json()}, {second, summarize(second_us).to_json()}};
+    j[first]["samples_us"] = samples_json(first_us);
+    j[second]["samples_us"] = samples_json(second_us);
+    return j;
+  }
+};
+
+// Records in the window: 0x103 frame -> odom DATA on lo -> odom at the reader.
+Split split_telemetry(const std::vector<std::int64_t>& frames_ns,
+                      const std::vector<std::pair<std::int64_t, std::int64_t>>& received,
+                      const std::vector<std::pair<std::int64_t, std::int64_t>>& on_wire, std::int64_t from_ns,
+                      std::int64_t to_ns) {
+  const std::unordered_map<std::int64_t, std::int64_t> arrival(received.begin(), received.end());
+  const std::unordered_map<std::int64_t, std::int64_t> wire(on_wire.begin(), on_wire.end());
+  auto find = [](const std::unordered_map<std::int64_t, std::int64_t>& map, std::int64_t us) -> std::optional<std::int64_t> {
+    for (const std::int64_t key : {us, us - 1, us + 1}) {
+      if (const auto found = map.find(key); found != map.end()) return found->second;
+    }
+    return std::nullopt;
+  };
+  Split split;
+  for (const std::int64_t frame_ns : frames_ns) {
+    if (frame_ns < from_ns || frame_ns >= to_ns) continue;
+    const auto sent = find(wire, frame_ns / 1000);
+    const auto got = find(arrival, frame_ns / 1000);
+    if (!sent || !got) continue;
+    split.first_us.push_back(static_cast<double>(*sent - frame_ns) / 1e3);
+    split.second_us.push_back(static_cast<double>(*got - *sent) / 1e3);
+  }
+  return split;
+}
+
+// Drives: publish -> cmd_vel DATA on lo -> first 0x121 frame with its velocity.
+Split split_drives(const std::vector<DriveSeries::Timed>& drives, const std::vector<std::pair<int, std::int64_t>>& on_wire) {
+  Split split;
+  for (const auto& drive : drives) {
+    for (const auto& [mm, ns] : on_wire) {
+      if (mm != drive.mm_per_s || ns < drive.sent_ns || ns > drive.frame_ns) continue;
+      split.first_us.push_back(static_cast<double>(ns - drive.sent_ns) / 1e3);
+      split.second_us.push_back(static_cast<double>(drive.frame_ns - ns) / 1e3);
+      break;
+    }
+  }
+  return split;
+}
+
+// ---- formatting ----
+
+std::string us(double value) { return fmt::format("{:.0f}", value); }
+std::string p50_p99(const json& j) {
+  return j.value("count", 0) == 0 ? "-" : us(j["p50_us"].get<double>()) + " / " + us(j["p99_us"].get<double>());
+}
+std::string mib(const json& j, const char* key) { return fmt::format("{:.2f}", j.value(key, 0.0) / 1024.0); }
+
+std::string syscall_listing(const json& per_record) {
+  std::vector<std::pair<double, std::string>> calls;
+  for (const auto& [name, value] : per_record.items()) {
+    if (name != "total" && value.get<double>() >= 0.05) calls.emplace_back(value.get<double>(), name);
+  }
+  std::sort(calls.rbegin(), calls.rend());
+  std::string text;
+  for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
+  return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
+}
+
+// ---- the run ----
+
+std::string logs(Robot& robot, ChildProgram* bridge) {
+  return robot.logs() + (bridge ? "--- wheeltec-ros2:\n" + bridge->log_tail() : std::string());
+}
+
+// Everything that runs: the programs end (in reverse order of their start) when it returns.
+int measure(const Settings& settings, const fs::path& work) {
+  const auto started = std::chrono::steady_clock::now();
+  json out;
+  json errors = json::array();
+  out["machine"] = {{"cpus", std::thread::hardware_concurrency()},
+                    {"user_mode_linux", std::getenv("VCAN_RUN_IN_UML") != nullptr},
+                    {"load_average_at_start", load_average()}};
+  out["settings"] = {{"quick", settings.quick},
+                     {"telemetry_seconds", settings.telemetry_s},
+                     {"drives", settings.drives},
+                     {"drive_block", settings.drive_block},
+                     {"drive_interval_ms", settings.drive_interval_ms},
+                     {"domain_id", settings.domain_id},
+                     {"readers", settings.all_readers ? json{"odom", "imu", "tf"} : json{"odom"}},
+                     {"cmd_vel_writer", "RELIABLE, KEEP_LAST 10, VOLATILE"},
+                     {"odom_reader", settings.best_effort_readers ? "BEST_EFFORT, KEEP_LAST 5, VOLATILE (sensor data)"
+                                                               : "RELIABLE, KEEP_LAST 10, VOLATILE (default)"}};
+
+  // The bridge and the participant here: loopback only, on the domain given, whatever the
+  // environment says.
+  for (const char* name : {"ROS_DOMAIN_ID", "ROS_LOCALHOST_ONLY", "ROS_AUTOMATIC_DISCOVERY_RANGE", "CYCLONEDDS_URI",
+                           "FASTRTPS_DEFAULT_PROFILES_FILE"}) {
+    ::unsetenv(name);
+  }
+
+  Robot robot(settings.programs, work / "r1", "r1", kInterface);
+  robot.start_emulator();
+  robot.start_daemon();
+  const fs::path bridge_config = work / "r1" / "wheeltec-ros2.json";
+  std::ofstream(bridge_config) << "{}\n";  // the defaults, not /etc/wheeltec-ros2's file
+  std::cerr << "wheeltec-bench-ros2: starting wheeltec-ros2 and the Fast DDS participant (domain "
+            << settings.domain_id << ")\n";
+  ChildProgram bridge("wheeltec-ros2",
+                      {settings.programs.bridge, "--config", bridge_config.string(), "--socket",
+                       robot.socket().string(), "--domain-id", std::to_string(settings.domain_id), "--localhost-only",
+                       "--log-level", "info"},
+                      work / "r1");
+  Ros2Peer peer(settings.domain_id, settings.all_readers, settings.best_effort_readers);
+  if (!peer.wait_matched(std::chrono::seconds(30))) {
+    throw std::runtime_error("the Fast DDS endpoints did not match wheeltec-ros2's within 30 s\n" + logs(robot, &bridge));
+  }
+  if (!peer.wait_for_odom(std::chrono::seconds(30))) {
+    throw std::runtime_error("no odom at the Fast DDS reader within 30 s\n" + logs(robot, &bridge));
+  }
+  BusObserver observer({kInterface}, robot.socket());
+  std::unique_ptr<LoopbackCapture> capture;
+  try {
+    capture = std::make_unique<LoopbackCapture>();
+  } catch (const std::exception& error) {
+    out["loopback_capture_unavailable"] = error.what();  // no split of the latencies
+  }
+  sleep_ms(1000);
+  out["memory_after_start"] = {{"wheeltec_ros2", memory_json(bridge.pid())},
+                               {"wheeltecd", memory_json(robot.daemon().pid())}};
+
+  // ---- telemetry latency and CPU per record, nobody driving ----
+  std::cerr << "wheeltec-bench-ros2: telemetry, " << settings.telemetry_s << " s\n";
+  const json counters0 = daemon_counters(robot.socket());
+  const json udp0 = udp_counters();
+  const json traffic0 = capture ? capture->counts() : json::object();
+  const std::int64_t t0 = realtime_ns();
+  const double bridge0 = cpu_s(bridge.pid()), daemon0 = cpu_s(robot.daemon().pid()),
+               emulator0 = cpu_s(robot.emulator().pid()), self0 = cpu_s(::getpid());
+  const MachineCpu machine0 = machine_cpu();
+  sleep_ms(settings.telemetry_s * 1000);
+  const std::int64_t t1 = realtime_ns();
+  const double bridge1 = cpu_s(bridge.pid()), daemon1 = cpu_s(robot.daemon().pid()),
+               emulator1 = cpu_s(robot.emulator().pid()), self1 = cpu_s(::getpid());
+  const MachineCpu machine1 = machine_cpu();
+  const json counters1 = daemon_counters(robot.socket());
+  const json udp1 = udp_counters();
+  const json traffic1 = capture ? capture->counts() : json::object();
+  sleep_ms(1000);  // samples of the window still on their way
+  const auto frames = observer.record_frames(0);
+  const auto odom = peer.odom_receipts();
+  const TelemetryMatch via_ros2 = match_records(frames, odom, t0, t1);
+  const TelemetryMatch direct = match_records(frames, observer.direct_notifications(), t0, t1);
+  std::size_t published = 0;  // records the bridge published in the window: odom samples received in it
+  for (const auto& [time_us, arrival_ns] : odom) {
+    if (arrival_ns >= t0 && arrival_ns < t1) ++published;
+  }
+  const double window_s = static_cast<double>(t1 - t0) / 1e9;
+  auto per_record_us = [&](double cpu) { return published == 0 ? 0.0 : cpu / static_cast<double>(published) * 1e6; };
+  json telemetry = {{"window_s", window_s},
+                    {"via_ros2", match_json(via_ros2)},
+                    {"direct_wheeltecd_subscriber", match_json(direct)},
+                    {"wheeltecd_counters", counters_delta(counters0, counters1)},
+                    {"udp", counters_delta(udp0, udp1)},
+                    {"loopback_traffic", counters_delta(traffic0, traffic1)}};
+  json cpu = {{"window_s", window_s},
+              {"records_published", published},
+              {"imu_samples", peer.imu_samples(t0, t1)},
+              {"tf_samples", peer.tf_samples(t0, t1)},
+              {"bridge_cpu_s", bridge1 - bridge0},
+              {"bridge_us_per_record", per_record_us(bridge1 - bridge0)},
+              {"wheeltecd_us_per_record", per_record_us(daemon1 - daemon0)},
+              {"emulator_us_per_record", per_record_us(emulator1 - emulator0)},
+              {"benchmark_us_per_record", per_record_us(self1 - self0)},
+              {"machine_busy_pct", busy_pct(machine0, machine1)}};
+  if (capture) {
+    telemetry["via_ros2_split"] =
+        split_telemetry(frames, odom, capture->odom_sent(), t0, t1).to_json("bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader");
+  }
+  if (via_ros2.delivered == 0) errors.push_back("no odom sample matched with a 0x103 frame on the bus");
+  if (direct.delivered == 0) errors.push_back("no notification of the direct subscriber matched with a 0x103 frame");
+  if (published == 0) errors.push_back("no odom sample received in the telemetry window");
+
+  // ---- system calls per record, counted exactly (strace -c) ----
+  json syscalls;
+  if (!settings.strace.empty()) {
+    const double seconds = settings.quick ? 2.0 : std::min(10.0, settings.telemetry_s);
+    std::cerr << "wheeltec-bench-ros2: system calls, " << seconds << " s under strace -c\n";
+    try {
+      SyscallCount bridge_calls(settings.strace, bridge.pid(), work, "wheeltec-ros2");
+      const std::int64_t c0 = realtime_ns();
+      sleep_ms(seconds * 1000);
+      const std::int64_t c1 = realtime_ns();
+      const auto counts = bridge_calls.stop();
+      sleep_ms(500);
+      std::size_t records = 0;
+      for (const auto& [time_us, arrival_ns] : peer.odom_receipts()) {
+        if (arrival_ns >= c0 && arrival_ns < c1) ++records;
+      }
+      json per_record = json::object();
+      for (const auto& [name, calls] : counts) {
+        per_record[name] = records == 0 ? 0.0 : static_cast<double>(calls) / static_cast<double>(records);
+      }
+      syscalls = {{"seconds", static_cast<double>(c1 - c0) / 1e9}, {"records", records}, {"bridge_per_record", per_record}};
+      if (records == 0) errors.push_back("no odom sample while the system calls were counted");
+    } catch (const std::exception& error) {
+      errors.push_back(std::string("strace: ") + error.what());
+    }
+  }
+
+  // ---- drives: cmd_vel over DDS and drive on the daemon's socket ----
+  std::cerr << "wheeltec-bench-ros2: " << settings.drives << " cmd_vel over DDS and as many drives on the daemon's socket\n";
+  const json counters2 = daemon_counters(robot.socket());
+  const json udp2 = udp_counters();
+  const std::int64_t d0 = realtime_ns();
+  const double bridge_d0 = cpu_s(bridge.pid());
+  const DriveResults drives = measure_drives(settings, robot, peer);
+  const std::int64_t d1 = realtime_ns();
+  const double bridge_d1 = cpu_s(bridge.pid());
+  const json counters3 = daemon_counters(robot.socket());
+  const json udp3 = udp_counters();
+  sleep_ms(1000);
+  const TelemetryMatch while_driving = match_records(observer.record_frames(0), peer.odom_receipts(), d0, d1);
+  const TelemetryMatch direct_while_driving =
+      match_records(observer.record_frames(0), observer.direct_notifications(), d0, d1);
+  telemetry["via_ros2_while_driving"] = match_json(while_driving);
+  telemetry["direct_wheeltecd_subscriber_while_driving"] = match_json(direct_while_driving);
+  telemetry["wheeltecd_counters_while_driving"] = counters_delta(counters2, counters3);
+  telemetry["udp_while_driving"] = counters_delta(udp2, udp3);
+  if (capture) {
+    telemetry["via_ros2_while_driving_split"] =
+        split_telemetry(observer.record_frames(0), peer.odom_receipts(), capture->odom_sent(), d0, d1)
+            .to_json("bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader");
+  }
+  json drive_json = {{"via_ros2", drives.ros2.to_json()},
+                     {"direct_wheeltecd", drives.direct.to_json()},
+                     {"first_errors", drives.first_errors}};
+  if (capture) {
+    drive_json["via_ros2_split"] =
+        split_drives(drives.ros2.timed, capture->cmd_vel_sent()).to_json("publish_to_dds_data_on_lo", "dds_data_on_lo_to_frame");
+    out["loopback_traffic"] = capture->counts();
+  }
+  if (drives.ros2.latency_us.empty()) errors.push_back("no cmd_vel reached the bus");
+  if (drives.direct.latency_us.empty()) errors.push_back("no drive on the daemon's socket reached the bus");
+
+  const json memory = {{"wheeltec_ros2", memory_json(bridge.pid())}, {"wheeltecd", memory_json(robot.daemon().pid())}};
+  // While driving: the bridge's CPU over the drives (its cmd_vel and their drives included) per
+  // odom sample it published meanwhile.
+  std::size_t published_driving = 0;
+  for (const auto& [time_us, arrival_ns] : peer.odom_receipts()) {
+    if (arrival_ns >= d0 && arrival_ns < d1) ++published_driving;
+  }
+  cpu["while_driving"] = {
+      {"seconds", static_cast<double>(d1 - d0) / 1e9},
+      {"bridge_cpu_s", bridge_d1 - bridge_d0},
+      {"records_published", published_driving},
+      {"cmd_vel_published", settings.drives + 3},
+      {"bridge_us_per_record",
+       published_driving == 0 ? 0.0 : (bridge_d1 - bridge_d0) / static_cast<double>(published_driving) * 1e6}};
+  if (memory["wheeltec_ros2"]["rss_kib"].get<std::uint64_t>() == 0) errors.push_back("no VmRSS of wheeltec-ros2");
+  const json diagnostics = peer.last_diagnostics();
+  const json udp_drops = udp_drops_by_process({{"wheeltec_ros2", bridge.pid()}, {"benchmark_fast_dds_side", ::getpid()}});
+  if (!bridge.running()) errors.push_back("wheeltec-ros2 ended:\n" + bridge.log_tail());
+  for (const auto& name : robot.ended()) errors.push_back(name + " ended");
+
+  out["telemetry"] = telemetry;
+  out["cpu_per_record"] = cpu;
+  if (!syscalls.is_null()) out["syscalls_per_record"] = syscalls;
+  out["drives"] = drive_json;
+  out["memory"] = memory;
+  out["bridge_diagnostics"] = diagnostics;
+  out["udp_drops_by_process"] = udp_drops;
+  out["bridge_log_warnings"] = log_warnings(work / "r1" / "wheeltec-ros2.log");
+  {
+    // For a closer look (kept with --work-dir): each 0x103 frame's kernel time, and each odom
+    // sample's stamp (us) and arrival (ns), e.g. to set beside a packet capture on lo.
+    std::ofstream frames_out(work / "frames.txt");
+    for (const std::int64_t frame_ns : observer.record_frames(0)) frames_out << frame_ns << "\n";
+    std::ofstream odom_out(work / "odom.txt");
+    for (const auto& [time_us, arrival_ns] : peer.odom_receipts()) odom_out << time_us << " " << arrival_ns << "\n";
+  }
+  out["errors"] = errors;
+  out["load_average_at_end"] = load_average();
+  out["elapsed_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  // ---- the tables ----
+  const bool uml = out["machine"]["user_mode_linux"].get<bool>();
+  std::cout << "| wheeltec-ros2 (" << (uml ? "User-Mode Linux, " : "") << "Fast DDS 2.9 peer on loopback, "
+            << (settings.best_effort_readers ? "BEST_EFFORT" : "RELIABLE") << " odom reader) | p50 / p99 (us) | n | lost or missed |\n|---|---|---|---|\n";
+  std::cout << "| cmd_vel published (RELIABLE writer) -> first 0x121 frame with its velocity | "
+            << p50_p99(drive_json["via_ros2"]) << " | " << drive_json["via_ros2"]["count"] << " | "
+            << drives.ros2.missed << " |\n";
+  auto split_row = [](const json& parent, const char* key, const char* first, const char* second, const std::string& label) {
+    if (!parent.contains(key)) return;
+    const json& split = parent[key];
+    std::cout << "| " << label << " | " << p50_p99(split[first]) << " and " << p50_p99(split[second]) << " | "
+              << split[first]["count"] << " | |\n";
+  };
+  split_row(drive_json, "via_ros2_split", "publish_to_dds_data_on_lo", "dds_data_on_lo_to_frame",
+            "split at the cmd_vel datagram on lo: publish -> datagram (Fast DDS writer) and datagram -> frame "
+            "(wheeltec-ros2 and wheeltecd)");
+  std::cout << "| reference: drive written on wheeltecd's socket -> frame (same blocks, alternating) | "
+            << p50_p99(drive_json["direct_wheeltecd"]) << " | " << drive_json["direct_wheeltecd"]["count"] << " | "
+            << drives.direct.missed << " |\n";
+  std::cout << "| 0x103 frame on the bus -> odom at the Fast DDS reader, nobody driving | "
+            << p50_p99(telemetry["via_ros2"]) << " | " << telemetry["via_ros2"]["count"] << " | " << via_ros2.lost()
+            << " of " << via_ros2.on_bus << " |\n";
+  split_row(telemetry, "via_ros2_split", "bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader",
+            "split at the odom datagram on lo: frame -> datagram (wheeltecd and wheeltec-ros2) and datagram -> "
+            "reader (Fast DDS)");
+  std::cout << "| reference: 0x103 frame -> notification at a direct wheeltecd subscriber | "
+            << p50_p99(telemetry["direct_wheeltecd_subscriber"]) << " | "
+            << telemetry["direct_wheeltecd_subscriber"]["count"] << " | " << direct.lost() << " of " << direct.on_bus
+            << " |\n";
+  std::cout << "| 0x103 frame -> odom, while driving (" << us(1000.0 / settings.drive_interval_ms) << " cmd_vel/s) | "
+            << p50_p99(telemetry["via_ros2_while_driving"]) << " | " << telemetry["via_ros2_while_driving"]["count"]
+            << " | " << while_driving.lost() << " of " << while_driving.on_bus << " |\n";
+  split_row(telemetry, "via_ros2_while_driving_split", "bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader",
+            "split at the odom datagram on lo, while driving");
+  std::cout << "| reference: 0x103 frame -> direct wheeltecd subscriber, while driving | "
+            << p50_p99(telemetry["direct_wheeltecd_subscriber_while_driving"]) << " | "
+            << telemetry["direct_wheeltecd_subscriber_while_driving"]["count"] << " | " << direct_while_driving.lost()
+            << " of " << direct_while_driving.on_bus << " |\n";
+  auto counters_text = [](const json& delta) {
+    return fmt::format("{} / {} / {}", delta.value("records_accepted", std::uint64_t{0}),
+                       delta.value("groups_discarded", std::uint64_t{0}),
+                       delta.value("notifications_dropped", std::uint64_t{0}));
+  };
+  std::cout << "| wheeltecd's stats, nobody driving / while driving: records accepted / frame groups discarded / "
+               "notifications dropped for slow clients | "
+            << counters_text(telemetry["wheeltecd_counters"]) << " and "
+            << counters_text(telemetry["wheeltecd_counters_while_driving"]) << " | | |\n";
+  auto udp_text = [](const json& delta) {
+    return fmt::format("{} / {}", delta.value("InDatagrams", std::uint64_t{0}), delta.value("RcvbufErrors", std::uint64_t{0}));
+  };
+  std::cout << "| UDP on loopback, nobody driving / while driving: datagrams received / dropped, receive buffer full | "
+            << udp_text(telemetry["udp"]) << " and " << udp_text(telemetry["udp_while_driving"]) << " (whole run, at "
+            << "wheeltec-ros2's sockets / this program's: " << udp_drops.value("wheeltec_ros2", std::uint64_t{0}) << " / "
+            << udp_drops.value("benchmark_fast_dds_side", std::uint64_t{0}) << ") | | |\n\n";
+
+  std::cout << fmt::format(
+      "| wheeltec-ros2's cost, {:.0f} s at 20 Hz, {} records ({}) | |\n|---|---|\n"
+      "| CPU per record, utime+stime (tick-sampled), us: wheeltec-ros2 | {:.0f} (while driving, cmd_vel included: "
+      "{:.0f}, {} records) |\n"
+      "| CPU per record, us: wheeltecd (2 clients: the bridge, the direct subscriber) / wheeltec-emu | {:.0f} / {:.0f} |\n"
+      "| machine busy (% of its CPUs) | {:.1f} % |\n",
+      window_s, published,
+      !settings.all_readers ? "odom read"
+                            : fmt::format("odom, imu and tf read: {} imu, {} tf samples", cpu["imu_samples"].get<std::size_t>(),
+                                       cpu["tf_samples"].get<std::size_t>()),
+      cpu["bridge_us_per_record"].get<double>(), cpu["while_driving"]["bridge_us_per_record"].get<double>(),
+      cpu["while_driving"]["records_published"].get<std::size_t>(), cpu["wheeltecd_us_per_record"].get<double>(),
+      cpu["emulator_us_per_record"].get<double>(), cpu["machine_busy_pct"].get<double>());
+  if (capture && published > 0) {
+    const json& traffic = telemetry["loopback_traffic"];
+    auto per_record = [&](const char* key) { return static_cast<double>(traffic.value(key, std::uint64_t{0})) / static_cast<double>(published); };
+    std::cout << fmt::format(
+        "| RTPS on lo per record: wheeltec-ros2 (Cyclone DDS) datagrams (DATA, HEARTBEAT, ACKNACK) / the Fast DDS "
+        "side's (ACKNACK) | {:.2f} ({:.2f}, {:.2f}, {:.2f}) / {:.2f} ({:.2f}) |\n",
+        per_record("cyclonedds.datagrams"), per_record("cyclonedds.DATA"), per_record("cyclonedds.HEARTBEAT"),
+        per_record("cyclonedds.ACKNACK"), per_record("fastdds.datagrams"), per_record("fastdds.ACKNACK"));
+  }
+  if (!syscalls.is_null()) {
+    std::cout << fmt::format("| system calls per record, wheeltec-ros2 (strace -c -f, {:.0f} s, {} records) | {} |\n",
+                             syscalls["seconds"].get<double>(), syscalls["records"].get<std::size_t>(),
+                             syscall_listing(syscalls["bridge_per_record"]));
+  }
+  const json& bridge_memory = memory["wheeltec_ros2"];
+  std::cout << fmt::format("| wheeltec-ros2 memory at the end, MiB: VmRSS / VmHWM ({} threads) | {} / {} |\n",
+                           bridge_memory["threads"].get<int>(), mib(bridge_memory, "rss_kib"),
+                           mib(bridge_memory, "hwm_kib"));
+  std::cout << fmt::format("| wheeltecd memory at the end, MiB: VmRSS / VmHWM | {} / {} |\n",
+                           mib(memory["wheeltecd"], "rss_kib"), mib(memory["wheeltecd"], "hwm_kib"));
+  if (diagnostics.is_object()) {
+    const json& values = diagnostics["values"];
+    std::cout << fmt::format("| the bridge's counters (diagnostics): cmd_vel_received / drives_refused | {} / {} |\n",
+                             values.value("cmd_vel_received", "?"), values.value("drives_refused", "?"));
+  }
+  if (!errors.empty()) {
+    std::cout << "\nErrors:\n";
+    for (const auto& error : errors) std::cout << "- " << error.get<std::string>() << "\n";
+  }
+  if (!out["bridge_log_warnings"].empty()) {
+    std::cout << "\nwheeltec-ros2 logged (first " << out["bridge_log_warnings"].size() << " warnings):\n";
+    for (const auto& line : out["bridge_log_warnings"]) std::cout << "- `" << line.get<std::string>() << "`\n";
+  }
+  if (!drives.first_errors.empty()) {
+    std::cout << "\nFirst error replies:\n";
+    for (const auto& error : drives.first_errors) std::cout << "- " << error << "\n";
+  }
+  std::cout.flush();
+
+  if (!settings.json_path.empty()) std::ofstream(settings.json_path) << out.dump(2) << "\n";
+  return errors.empty() ? 0 : 1;
+}
+
+int run(const Settings& settings) {
+  if (!settings.work_dir.empty()) {
+    fs::create_directories(settings.work_dir);
+    return measure(settings, settings.work_dir);
+  }
+  std::string pattern = (fs::temp_directory_path() / "wheeltec-bench-ros2.XXXXXX").string();
+  if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+  struct Remove {
+    fs::path path;
+    ~Remove() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  } work{pattern};
+  return measure(settings, work.path);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(parse_arguments(argc, argv));
+  } catch (const std::invalid_argument& error) {
+    std::cerr << "wheeltec-bench-ros2: " << error.what() << "\n";
+    usage();
+    return 2;
+  } catch (const std::exception& error) {
+    std::cerr << "wheeltec-bench-ros2: " << error.what() << "\n";
+    return 1;
+  }
+}
