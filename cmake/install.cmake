@@ -15,6 +15,9 @@ endif()
 if(TARGET wheeltec-web)
   install(FILES systemd/wheeltec-web.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
 endif()
+if(TARGET wheeltec-ros2)
+  install(FILES systemd/wheeltec-ros2.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
+endif()
 install(FILES systemd/80-wheeltec-can.network DESTINATION ${WHEELTEC_NETWORKD_DIR})
 # The serial link: names the controller's USB cable /dev/wheeltec_controller for the group
 # wheeltec (/usr/lib/udev/rules.d/ in the package; udev reads /usr/local/lib/udev/rules.d/ too).
@@ -34,6 +37,9 @@ if(TARGET wheeltec-mqtt)
 endif()
 if(TARGET wheeltec-web)
   list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-web.1)
+endif()
+if(TARGET wheeltec-ros2)
+  list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-ros2.1)
 endif()
 set(WHEELTEC_COMPRESSED_FILES)
 foreach(page IN LISTS WHEELTEC_MAN_PAGES)
@@ -78,8 +84,9 @@ wheeltec and a udev rule that names the vendor's serial cable
 the robot from the command line; wheeltec-emu emulates the chassis controller
 on a virtual CAN interface or a pseudo-terminal; wheeltec-mqtt bridges the
 robot to an MQTT broker for a fleet; wheeltec-web serves a live view (plots,
-odometry, joystick) to browsers and to Foxglove (both services are installed
-disabled).")
+odometry, joystick) to browsers and to Foxglove; wheeltec-ros2 publishes the
+robot as ROS 2 topics (odom, imu, tf, diagnostics; cmd_vel in) over Cyclone
+DDS, with no ROS installed (the bridges' services are installed disabled).")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
@@ -88,6 +95,12 @@ set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # libjs-dygraphs: wheeltec-web serves its plotting library from /usr/share/javascript.
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs")
+# wheeltec-ros2 links Debian's Cyclone DDS (libddsc.so.0debian, from cyclonedds-dev);
+# shlibdeps finds it too, but the package names it as the version the bridge was checked
+# against (0.10.2: XCDR1 without type information, as rmw_cyclonedds).
+if(TARGET wheeltec-ros2)
+  string(APPEND CPACK_DEBIAN_PACKAGE_DEPENDS ", libddsc0debian (>= 0.10.2)")
+endif()
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "can-utils, iproute2")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
   ${PROJECT_SOURCE_DIR}/packaging/debian/conffiles

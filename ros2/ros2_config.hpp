@@ -1,8 +1,9 @@
 #pragma once
 
-// wheeltec-ros2's configuration (docs/ros2.md lists every key): defaults, the JSON config
-// file over them, the environment ROS 2 users set, then the command line. Pure: no I/O; the
-// file and the environment are read by options.cpp.
+// wheeltec-ros2's configuration (docs/ros2.md lists every key): defaults, the environment
+// ROS 2 users set (ROS_DOMAIN_ID and the localhost variables) over them, the JSON config file
+// over that, then the command line. Pure: no I/O; the file and the environment are read by
+// options.cpp.
 
 #include <array>
 #include <cstdint>

@@ -33,6 +33,10 @@ expect_file usr/lib/systemd/system/wheeltec-web.service -rw-r--r--
 expect_file usr/share/man/man1/wheeltec-web.1.gz -rw-r--r--
 expect_file usr/share/wheeltec-web/index.html -rw-r--r--
 expect_file usr/share/doc/wheeltec-gateway/web.md -rw-r--r--
+expect_file usr/bin/wheeltec-ros2 -rwxr-xr-x
+expect_file usr/lib/systemd/system/wheeltec-ros2.service -rw-r--r--
+expect_file usr/share/man/man1/wheeltec-ros2.1.gz -rw-r--r--
+expect_file usr/share/doc/wheeltec-gateway/ros2.md -rw-r--r--
 expect_file usr/lib/systemd/system/wheeltecd.service -rw-r--r--
 expect_file usr/lib/systemd/network/80-wheeltec-can.network -rw-r--r--
 expect_file usr/lib/udev/rules.d/60-wheeltec-controller.rules -rw-r--r--
@@ -57,6 +61,7 @@ dpkg-deb --fsys-tarfile "$deb" | tar -xO ./etc/wheeltecd/wheeltecd.json >"$work/
   fail "the shipped wheeltecd.json does not let the group wheeltec drive"
 grep -q '^Depends:.*adduser' "$work/control/control" || fail "Depends lacks adduser"
 grep -q '^Depends:.*libjs-dygraphs' "$work/control/control" || fail "Depends lacks libjs-dygraphs (wheeltec-web's plots)"
+grep -q '^Depends:.*libddsc0debian' "$work/control/control" || fail "Depends lacks libddsc0debian (wheeltec-ros2's Cyclone DDS)"
 grep -q 'adduser --system' "$work/control/postinst" || fail "postinst does not create the system user"
 if grep -v '^[[:space:]]*#' "$work/control/postinst" | grep -Eq 'systemctl (--[a-z-]+ )*enable|deb-systemd-helper enable'; then
   fail "postinst enables the service"
@@ -64,7 +69,7 @@ fi
 for script in postinst prerm postrm; do sh -n "$work/control/$script" || fail "$script: syntax error"; done
 grep -q 'deb-systemd-invoke restart' "$work/control/postinst" || fail "postinst does not restart the service on upgrade"
 grep -q 'purge' "$work/control/postrm" || fail "postrm does not handle purge"
-for unit in wheeltecd.service wheeltec-mqtt.service wheeltec-web.service; do
+for unit in wheeltecd.service wheeltec-mqtt.service wheeltec-web.service wheeltec-ros2.service; do
   grep -q "$unit" "$work/control/postinst" || fail "postinst does not record or restart $unit"
   grep -q "$unit" "$work/control/prerm" || fail "prerm does not stop $unit"
   grep -q "$unit" "$work/control/postrm" || fail "postrm does not purge $unit"
