@@ -3,6 +3,10 @@
 #include <linux/can/raw.h>
 #include <net/if.h>
 #include <poll.h>
+
+#include <algorithm>
+#include <chrono>
+#include <iterator>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
@@ -87,6 +91,39 @@ std::optional<CanEndpoint::Stamped> CanEndpoint::receive_stamped(int timeout_ms)
   stamped.frame = received->frame;
   stamped.kernel_us = monotonic_now - (real_now - kernel_real);
   return stamped;
+}
+
+void drain(CanEndpoint& control) {
+  boost::system::error_code ec;
+  while (wheeltec::asio_can::receive_frame(control.fd(), ec)) {
+  }
+}
+
+namespace {
+
+bool has_enable_prefix(const wheeltec::CanFrame& frame) {
+  static constexpr std::uint8_t prefix[] = {0x0A, 0x0C, 0x0F, 0x13, 0x18, 0x1E, 0x25};
+  return std::equal(std::begin(prefix), std::end(prefix), frame.data.begin());
+}
+
+}  // namespace
+
+std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+  while (std::chrono::steady_clock::now() < deadline) {
+    boost::system::error_code ec;
+    auto received = wheeltec::asio_can::receive_frame(control.fd(), ec);
+    if (!received) {
+      pollfd ready{control.fd(), POLLIN, 0};
+      ::poll(&ready, 1, 50);
+      continue;
+    }
+    const auto& frame = received->frame;
+    if (frame.id != 0x121 || frame.dlc != 8 || has_enable_prefix(frame)) continue;
+    const int x = static_cast<std::int16_t>((frame.data[0] << 8) | frame.data[1]);
+    if (x == mm_per_s) return received->time.time_since_epoch().count();
+  }
+  return std::nullopt;
 }
 
 }  // namespace bench

@@ -39,4 +39,11 @@ class CanEndpoint {
   int fd_ = -1;
 };
 
+// Reads and drops every frame waiting on the endpoint.
+void drain(CanEndpoint& control);
+
+// The kernel receive time (CLOCK_REALTIME ns) of the first 0x121 velocity frame with
+// vx = mm_per_s (the enable handshake's frames aside), within 1 s.
+std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s);
+
 }  // namespace bench

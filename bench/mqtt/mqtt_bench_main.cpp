@@ -41,6 +41,7 @@
 #include "wheeltec/asio_can/frame_io.hpp"
 
 #include "bench_clock.hpp"
+#include "bench_figures.hpp"
 #include "bus_observer.hpp"
 #include "can_endpoint.hpp"
 #include "fleet_processes.hpp"
@@ -240,41 +241,6 @@ class Receipts {
 
 // ---- telemetry: bus frames matched with what a subscriber received ----
 
-struct TelemetryMatch {
-  std::size_t on_bus = 0;     // 0x103 frames in the window
-  std::size_t delivered = 0;  // of those, records the subscriber received
-  std::vector<double> latency_us;
-  std::vector<std::int64_t> missing_ns;  // bus timestamps of the frames whose record did not arrive
-  std::size_t lost() const { return on_bus - delivered; }
-};
-
-// `receipts`: (record time in us, received at ns). Frames with a kernel timestamp in
-// [from_ns, to_ns) count.
-TelemetryMatch match_records(const std::vector<std::int64_t>& frames_ns,
-                             const std::vector<std::pair<std::int64_t, std::int64_t>>& receipts, std::int64_t from_ns,
-                             std::int64_t to_ns) {
-  std::unordered_map<std::int64_t, std::int64_t> by_time;
-  by_time.reserve(receipts.size());
-  for (const auto& [time_us, received_ns] : receipts) by_time.emplace(time_us, received_ns);
-  TelemetryMatch match;
-  for (const std::int64_t frame_ns : frames_ns) {
-    if (frame_ns < from_ns || frame_ns >= to_ns) continue;
-    ++match.on_bus;
-    const std::int64_t key = frame_ns / 1000;  // the daemon writes `time` truncated to the microsecond
-    bool found_it = false;
-    for (const std::int64_t candidate : {key, key - 1, key + 1}) {
-      const auto found = by_time.find(candidate);
-      if (found == by_time.end()) continue;
-      ++match.delivered;
-      match.latency_us.push_back(static_cast<double>(found->second - frame_ns) / 1e3);
-      found_it = true;
-      break;
-    }
-    if (!found_it) match.missing_ns.push_back(frame_ns);
-  }
-  return match;
-}
-
 // Where the missing records were lost, from the `seq` of the records received around each:
 // consecutive numbers mean that wheeltecd never accepted a record for that frame; a gap in
 // them, that it did and the record was lost on its way (bridge, broker, subscriber).
@@ -306,47 +272,7 @@ std::vector<std::pair<std::int64_t, std::int64_t>> pairs_of(const std::vector<Te
   return pairs;
 }
 
-// Every sample, rounded to the microsecond, for a closer look at a distribution.
-json samples_json(std::vector<double> samples_us) {
-  for (auto& sample : samples_us) sample = std::round(sample);
-  return samples_us;
-}
-
-json match_json(const TelemetryMatch& match, bool with_samples = false) {
-  json j = summarize(match.latency_us).to_json();
-  if (with_samples) j["samples_us"] = samples_json(match.latency_us);
-  j["on_bus"] = match.on_bus;
-  j["delivered"] = match.delivered;
-  j["lost"] = match.lost();
-  return j;
-}
-
 // ---- CPU from /proc ----
-
-struct MachineCpu {
-  unsigned long long busy = 0, total = 0;  // jiffies of all CPUs (UML: its one vCPU)
-};
-
-MachineCpu machine_cpu() {
-  std::ifstream stat("/proc/stat");
-  std::string cpu;
-  stat >> cpu;
-  MachineCpu sample;
-  unsigned long long value = 0;
-  for (int field = 0; field < 8 && stat >> value; ++field) {
-    sample.total += value;
-    if (field != 3 && field != 4) sample.busy += value;  // idle and iowait are not busy
-  }
-  return sample;
-}
-
-double cpu_s(pid_t pid) {
-  try {
-    return sample_process(pid).cpu_s;
-  } catch (const std::exception&) {
-    return 0.0;
-  }
-}
 
 // ---- drives ----
 
@@ -361,35 +287,6 @@ struct DriveSeries {
   }
 };
 
-void drain(CanEndpoint& control) {
-  boost::system::error_code ec;
-  while (wheeltec::asio_can::receive_frame(control.fd(), ec)) {
-  }
-}
-
-bool has_enable_prefix(const wheeltec::CanFrame& frame) {
-  static constexpr std::uint8_t prefix[] = {0x0A, 0x0C, 0x0F, 0x13, 0x18, 0x1E, 0x25};
-  return std::equal(std::begin(prefix), std::end(prefix), frame.data.begin());
-}
-
-// The kernel receive time of the first 0x121 velocity frame with vx = mm_per_s, within 1 s.
-std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
-  while (std::chrono::steady_clock::now() < deadline) {
-    boost::system::error_code ec;
-    auto received = wheeltec::asio_can::receive_frame(control.fd(), ec);
-    if (!received) {
-      pollfd ready{control.fd(), POLLIN, 0};
-      ::poll(&ready, 1, 50);
-      continue;
-    }
-    const auto& frame = received->frame;
-    if (frame.id != 0x121 || frame.dlc != 8 || has_enable_prefix(frame)) continue;
-    const int x = static_cast<std::int16_t>((frame.data[0] << 8) | frame.data[1]);
-    if (x == mm_per_s) return received->time.time_since_epoch().count();
-  }
-  return std::nullopt;
-}
 
 struct DriveResults {
   DriveSeries mqtt, direct;
@@ -496,16 +393,6 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
 // ---- formatting ----
 
 std::string us(double value) { return fmt::format("{:.0f}", value); }
-std::string p50_p99(const json& j) {
-  return j.value("count", 0) == 0 ? "-" : us(j["p50_us"].get<double>()) + " / " + us(j["p99_us"].get<double>());
-}
-
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string a, b, c;
-  in >> a >> b >> c;
-  return a + " " + b + " " + c;
-}
 
 // ---- the run ----
 

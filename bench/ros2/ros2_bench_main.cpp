@@ -45,6 +45,7 @@
 #include "wheeltec/asio_can/frame_io.hpp"
 
 #include "bench_clock.hpp"
+#include "bench_figures.hpp"
 #include "bus_observer.hpp"
 #include "can_endpoint.hpp"
 #include "child_program.hpp"
@@ -142,82 +143,7 @@ void sleep_ms(double ms) { std::this_thread::sleep_for(std::chrono::microseconds
 
 // ---- telemetry: bus frames matched with what a reader received ----
 
-struct TelemetryMatch {
-  std::size_t on_bus = 0;     // 0x103 frames in the window
-  std::size_t delivered = 0;  // of those, records the reader received
-  std::vector<double> latency_us;
-  std::size_t lost() const { return on_bus - delivered; }
-};
-
-// `receipts`: (record time in us, received at ns). Frames with a kernel timestamp in
-// [from_ns, to_ns) count. As bench/mqtt matches them: the record's `time` is the frame's
-// timestamp at the daemon's socket, truncated to the microsecond.
-TelemetryMatch match_records(const std::vector<std::int64_t>& frames_ns,
-                             const std::vector<std::pair<std::int64_t, std::int64_t>>& receipts, std::int64_t from_ns,
-                             std::int64_t to_ns) {
-  std::unordered_map<std::int64_t, std::int64_t> by_time;
-  by_time.reserve(receipts.size());
-  for (const auto& [time_us, received_ns] : receipts) by_time.emplace(time_us, received_ns);
-  TelemetryMatch match;
-  for (const std::int64_t frame_ns : frames_ns) {
-    if (frame_ns < from_ns || frame_ns >= to_ns) continue;
-    ++match.on_bus;
-    const std::int64_t key = frame_ns / 1000;
-    for (const std::int64_t candidate : {key, key - 1, key + 1}) {
-      const auto found = by_time.find(candidate);
-      if (found == by_time.end()) continue;
-      ++match.delivered;
-      match.latency_us.push_back(static_cast<double>(found->second - frame_ns) / 1e3);
-      break;
-    }
-  }
-  return match;
-}
-
-json samples_json(std::vector<double> samples_us) {
-  for (auto& sample : samples_us) sample = std::round(sample);
-  return samples_us;
-}
-
-json match_json(const TelemetryMatch& match) {
-  json j = summarize(match.latency_us).to_json();
-  j["samples_us"] = samples_json(match.latency_us);
-  j["on_bus"] = match.on_bus;
-  j["delivered"] = match.delivered;
-  j["lost"] = match.lost();
-  return j;
-}
-
 // ---- /proc ----
-
-struct MachineCpu {
-  unsigned long long busy = 0, total = 0;  // jiffies of all CPUs (UML: its one vCPU)
-};
-
-MachineCpu machine_cpu() {
-  std::ifstream stat("/proc/stat");
-  std::string cpu;
-  stat >> cpu;
-  MachineCpu sample;
-  unsigned long long value = 0;
-  for (int field = 0; field < 8 && stat >> value; ++field) {
-    sample.total += value;
-    if (field != 3 && field != 4) sample.busy += value;  // idle and iowait are not busy
-  }
-  return sample;
-}
-
-double busy_pct(const MachineCpu& a, const MachineCpu& b) {
-  return b.total > a.total ? 100.0 * static_cast<double>(b.busy - a.busy) / static_cast<double>(b.total - a.total) : 0.0;
-}
-
-double cpu_s(pid_t pid) {
-  try {
-    return sample_process(pid).cpu_s;
-  } catch (const std::exception&) {
-    return 0.0;
-  }
-}
 
 int threads_of(pid_t pid) {
   std::ifstream status("/proc/" + std::to_string(pid) + "/status");
@@ -234,13 +160,6 @@ json memory_json(pid_t pid) {
   } catch (const std::exception&) {
     return {{"rss_kib", 0}, {"hwm_kib", 0}, {"threads", 0}};
   }
-}
-
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string a, b, c;
-  in >> a >> b >> c;
-  return a + " " + b + " " + c;
 }
 
 // The kernel's UDP counters (/proc/net/snmp): datagrams received and those dropped because a
@@ -349,35 +268,6 @@ struct DriveSeries {
   }
 };
 
-void drain(CanEndpoint& control) {
-  boost::system::error_code ec;
-  while (wheeltec::asio_can::receive_frame(control.fd(), ec)) {
-  }
-}
-
-bool has_enable_prefix(const wheeltec::CanFrame& frame) {
-  static constexpr std::uint8_t prefix[] = {0x0A, 0x0C, 0x0F, 0x13, 0x18, 0x1E, 0x25};
-  return std::equal(std::begin(prefix), std::end(prefix), frame.data.begin());
-}
-
-// The kernel receive time of the first 0x121 velocity frame with vx = mm_per_s, within 1 s.
-std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
-  while (std::chrono::steady_clock::now() < deadline) {
-    boost::system::error_code ec;
-    auto received = wheeltec::asio_can::receive_frame(control.fd(), ec);
-    if (!received) {
-      pollfd ready{control.fd(), POLLIN, 0};
-      ::poll(&ready, 1, 50);
-      continue;
-    }
-    const auto& frame = received->frame;
-    if (frame.id != 0x121 || frame.dlc != 8 || has_enable_prefix(frame)) continue;
-    const int x = static_cast<std::int16_t>((frame.data[0] << 8) | frame.data[1]);
-    if (x == mm_per_s) return received->time.time_since_epoch().count();
-  }
-  return std::nullopt;
-}
 
 struct DriveResults {
   DriveSeries ros2, direct;
@@ -512,9 +402,6 @@ Split split_drives(const std::vector<DriveSeries::Timed>& drives, const std::vec
 // ---- formatting ----
 
 std::string us(double value) { return fmt::format("{:.0f}", value); }
-std::string p50_p99(const json& j) {
-  return j.value("count", 0) == 0 ? "-" : us(j["p50_us"].get<double>()) + " / " + us(j["p99_us"].get<double>());
-}
 std::string mib(const json& j, const char* key) { return fmt::format("{:.2f}", j.value(key, 0.0) / 1024.0); }
 
 std::string syscall_listing(const json& per_record) {
@@ -619,8 +506,8 @@ int measure(const Settings& settings, const fs::path& work) {
   const double window_s = static_cast<double>(t1 - t0) / 1e9;
   auto per_record_us = [&](double cpu) { return published == 0 ? 0.0 : cpu / static_cast<double>(published) * 1e6; };
   json telemetry = {{"window_s", window_s},
-                    {"via_ros2", match_json(via_ros2)},
-                    {"direct_wheeltecd_subscriber", match_json(direct)},
+                    {"via_ros2", match_json(via_ros2, true)},
+                    {"direct_wheeltecd_subscriber", match_json(direct, true)},
                     {"wheeltecd_counters", counters_delta(counters0, counters1)},
                     {"udp", counters_delta(udp0, udp1)},
                     {"loopback_traffic", counters_delta(traffic0, traffic1)}};
@@ -684,8 +571,8 @@ int measure(const Settings& settings, const fs::path& work) {
   const TelemetryMatch while_driving = match_records(observer.record_frames(0), peer.odom_receipts(), d0, d1);
   const TelemetryMatch direct_while_driving =
       match_records(observer.record_frames(0), observer.direct_notifications(), d0, d1);
-  telemetry["via_ros2_while_driving"] = match_json(while_driving);
-  telemetry["direct_wheeltecd_subscriber_while_driving"] = match_json(direct_while_driving);
+  telemetry["via_ros2_while_driving"] = match_json(while_driving, true);
+  telemetry["direct_wheeltecd_subscriber_while_driving"] = match_json(direct_while_driving, true);
   telemetry["wheeltecd_counters_while_driving"] = counters_delta(counters2, counters3);
   telemetry["udp_while_driving"] = counters_delta(udp2, udp3);
   if (capture) {

@@ -1,0 +1,91 @@
+#include "bench_figures.hpp"
+
+#include <cmath>
+#include <exception>
+#include <fstream>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "bench_clock.hpp"
+#include "latency_stats.hpp"
+
+namespace bench {
+
+TelemetryMatch match_records(const std::vector<std::int64_t>& frames_ns,
+                             const std::vector<std::pair<std::int64_t, std::int64_t>>& receipts, std::int64_t from_ns,
+                             std::int64_t to_ns) {
+  std::unordered_map<std::int64_t, std::int64_t> by_time;
+  by_time.reserve(receipts.size());
+  for (const auto& [time_us, received_ns] : receipts) by_time.emplace(time_us, received_ns);
+  TelemetryMatch match;
+  for (const std::int64_t frame_ns : frames_ns) {
+    if (frame_ns < from_ns || frame_ns >= to_ns) continue;
+    ++match.on_bus;
+    const std::int64_t key = frame_ns / 1000;
+    bool found_it = false;
+    for (const std::int64_t candidate : {key, key - 1, key + 1}) {
+      const auto found = by_time.find(candidate);
+      if (found == by_time.end()) continue;
+      ++match.delivered;
+      match.latency_us.push_back(static_cast<double>(found->second - frame_ns) / 1e3);
+      found_it = true;
+      break;
+    }
+    if (!found_it) match.missing_ns.push_back(frame_ns);
+  }
+  return match;
+}
+
+nlohmann::json samples_json(std::vector<double> samples_us) {
+  for (auto& sample : samples_us) sample = std::round(sample);
+  return samples_us;
+}
+
+nlohmann::json match_json(const TelemetryMatch& match, bool with_samples) {
+  nlohmann::json j = summarize(match.latency_us).to_json();
+  if (with_samples) j["samples_us"] = samples_json(match.latency_us);
+  j["on_bus"] = match.on_bus;
+  j["delivered"] = match.delivered;
+  j["lost"] = match.lost();
+  return j;
+}
+
+MachineCpu machine_cpu() {
+  std::ifstream stat("/proc/stat");
+  std::string cpu;
+  stat >> cpu;
+  MachineCpu sample;
+  unsigned long long value = 0;
+  for (int field = 0; field < 8 && stat >> value; ++field) {
+    sample.total += value;
+    if (field != 3 && field != 4) sample.busy += value;  // idle and iowait are not busy
+  }
+  return sample;
+}
+
+double busy_pct(const MachineCpu& a, const MachineCpu& b) {
+  return b.total > a.total ? 100.0 * static_cast<double>(b.busy - a.busy) / static_cast<double>(b.total - a.total) : 0.0;
+}
+
+double cpu_s(pid_t pid) {
+  try {
+    return sample_process(pid).cpu_s;
+  } catch (const std::exception&) {
+    return 0.0;
+  }
+}
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a + " " + b + " " + c;
+}
+
+std::string p50_p99(const nlohmann::json& summary) {
+  if (summary.value("count", 0) == 0) return "-";
+  return fmt::format("{:.0f} / {:.0f}", summary["p50_us"].get<double>(), summary["p99_us"].get<double>());
+}
+
+}  // namespace bench
