@@ -23,9 +23,6 @@ namespace {
 
 using boost::asio::local::stream_protocol;
 
-// A telemetry notification is about 550 bytes with its orientation; one allocation per record.
-constexpr std::size_t kTelemetryNotificationReserve = 768;
-
 // After accept() fails for lack of descriptors or memory, wait this long before the next
 // try instead of spinning on the same error.
 constexpr std::chrono::milliseconds kAcceptRetryDelay{200};
@@ -99,8 +96,7 @@ bool ApiServer::has_status_subscribers() const {
 
 void ApiServer::queue_telemetry(const TelemetrySample& sample) {
   if (!has_telemetry_subscribers()) return;
-  auto notification = std::make_shared<std::string>();
-  notification->reserve(kTelemetryNotificationReserve);
+  auto notification = notification_texts_.acquire();
   append_telemetry_notification(*notification, sample);
   const SharedText shared = std::move(notification);
   for (const auto& [id, session] : sessions_) {

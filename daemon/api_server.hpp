@@ -14,6 +14,7 @@
 
 #include "wheeltec/config.hpp"
 #include "wheeltec/telemetry_json.hpp"
+#include "wheeltec/text_pool.hpp"
 
 #include "api_counters.hpp"
 #include "client_session.hpp"
@@ -74,6 +75,7 @@ class ApiServer {
   std::map<ClientId, std::shared_ptr<ClientSession>> sessions_;
   GoneHandler gone_handler_;
   bool closed_ = false;
+  TextPool notification_texts_{768};  // a telemetry notification is about 450 bytes
 };
 
 }  // namespace wheeltec::daemon

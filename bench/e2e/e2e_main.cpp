@@ -411,7 +411,7 @@ int main(int argc, char** argv) try {
     const fs::path config = dir / "wheeltecd.json";
     std::ofstream(config) << config_for(s, socket) << "\n";
     ChildProgram daemon("wheeltecd", {s.wheeltecd, "--config", config.string()}, dir);
-    daemon.wait_for_socket(socket);
+    daemon.wait_for_socket(socket, 120);  // under a profiler start-up is slow
     CanEndpoint chassis(s.interface, {});
     if (s.commands_only) {
       const fs::path relay_socket = dir / "floor.sock";

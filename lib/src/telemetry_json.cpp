@@ -1,117 +1,148 @@
 #include "wheeltec/telemetry_json.hpp"
 
-#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string_view>
 #include <system_error>
+
+#include "wheeltec/fixed_decimal.hpp"
 
 namespace wheeltec {
 namespace {
 
-// Everything is formatted into stack buffers and appended, so a string with enough
-// capacity is never reallocated (the daemon reuses one buffer per record).
+// The longest fixed-point double (DBL_MAX) has 309 integer digits; with sign, point and 6
+// decimals, 317 characters. A record has 20 such numbers and under 512 other characters.
+constexpr std::size_t kLongestFixed = 317;
+constexpr std::size_t kLongestRecord = 20 * kLongestFixed + 512;
 
-void append_integer(std::string& out, std::uint64_t value) {
-  char buffer[24];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, static_cast<std::size_t>(result.ptr - buffer));
-}
-
-void append_fixed(std::string& out, double value, int decimals) {
-  if (!std::isfinite(value)) {
-    out += "null";  // JSON has no NaN or infinity
-    return;
+// Writes a record into one stack buffer, which then goes into the string in one append:
+// a string with enough capacity is never reallocated (the daemon reuses one per record).
+class RecordWriter {
+ public:
+  void text(std::string_view s) {
+    std::memcpy(end_, s.data(), s.size());
+    end_ += s.size();
   }
-  char buffer[400];  // the longest fixed-point double (DBL_MAX) has 309 integer digits
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::fixed, decimals);
-  if (result.ec != std::errc{}) {
-    out += "null";
-    return;
+
+  void integer(std::uint64_t value) { end_ = std::to_chars(end_, end_ + 24, value).ptr; }
+
+  void boolean(bool value) { text(value ? std::string_view("true") : std::string_view("false")); }
+
+  void fixed(double value, int decimals) {
+    if (!std::isfinite(value)) {
+      text("null");  // JSON has no NaN or infinity
+      return;
+    }
+    char* const begin = end_;
+    const auto result = fixed_decimal_to_chars(begin, begin + kLongestFixed, value, decimals);
+    if (result.ec != std::errc{}) {
+      text("null");
+      return;
+    }
+    end_ = result.ptr;
+    if (*begin == '-' && rounds_to_zero(begin + 1, end_)) {
+      // -0.0 and tiny negatives that round to zero print as 0.000
+      std::memmove(begin, begin + 1, static_cast<std::size_t>(end_ - begin - 1));
+      --end_;
+    }
   }
-  const char* begin = buffer;
-  if (*begin == '-' && std::all_of(begin + 1, static_cast<const char*>(result.ptr),
-                                   [](char c) { return c == '0' || c == '.'; })) {
-    ++begin;  // -0.0 and tiny negatives that round to zero print as 0.000
+
+  void member(std::string_view key_with_quotes_and_colon, double value, int decimals) {
+    text(key_with_quotes_and_colon);
+    fixed(value, decimals);
   }
-  out.append(begin, static_cast<std::size_t>(result.ptr - begin));
-}
 
-void append_time(std::string& out, RealtimeNanos time) {
-  const std::int64_t count = time.time_since_epoch().count();
-  if (count < 0) out += '-';
-  const std::uint64_t ns = count < 0 ? 0 - static_cast<std::uint64_t>(count) : static_cast<std::uint64_t>(count);
-  const std::uint64_t seconds = ns / 1'000'000'000;
-  const std::uint64_t micros = ns % 1'000'000'000 / 1'000;
-  append_integer(out, seconds);
-  out += '.';
-  char digits[6];
-  std::uint64_t rest = micros;
-  for (int i = 5; i >= 0; --i) {
-    digits[i] = static_cast<char>('0' + rest % 10);
-    rest /= 10;
+  void vector(const Vector3& v, int decimals) {
+    member("{\"x\":", v.x, decimals);
+    member(",\"y\":", v.y, decimals);
+    member(",\"z\":", v.z, decimals);
+    text("}");
   }
-  out.append(digits, sizeof digits);
-}
 
-void append_bool(std::string& out, bool value) { out += value ? "true" : "false"; }
+  // Seconds since the epoch with 6 decimals, from integer nanoseconds (no rounding of a
+  // double: the microseconds are the kernel's).
+  void time(RealtimeNanos time) {
+    const std::int64_t count = time.time_since_epoch().count();
+    if (count < 0) text("-");
+    const std::uint64_t ns = count < 0 ? 0 - static_cast<std::uint64_t>(count) : static_cast<std::uint64_t>(count);
+    integer(ns / 1'000'000'000);
+    text(".");
+    std::uint64_t micros = ns % 1'000'000'000 / 1'000;
+    for (int i = 5; i >= 0; --i) {
+      end_[i] = static_cast<char>('0' + micros % 10);
+      micros /= 10;
+    }
+    end_ += 6;
+  }
 
-void append_member(std::string& out, std::string_view key_with_quotes_and_colon, double value, int decimals) {
-  out += key_with_quotes_and_colon;
-  append_fixed(out, value, decimals);
-}
+  void append_to(std::string& out) const { out.append(buffer_, static_cast<std::size_t>(end_ - buffer_)); }
 
-void append_vector(std::string& out, const Vector3& v, int decimals) {
-  append_member(out, "{\"x\":", v.x, decimals);
-  append_member(out, ",\"y\":", v.y, decimals);
-  append_member(out, ",\"z\":", v.z, decimals);
-  out += '}';
+ private:
+  static bool rounds_to_zero(const char* begin, const char* end) {
+    for (const char* c = begin; c != end; ++c) {
+      if (*c != '0' && *c != '.') return false;
+    }
+    return true;
+  }
+
+  char buffer_[kLongestRecord];
+  char* end_ = buffer_;
+};
+
+void write_record(RecordWriter& w, const TelemetrySample& sample) {
+  const TelemetryRecord& r = sample.record;
+  w.text("{\"seq\":");
+  w.integer(sample.seq);
+  w.text(",\"time\":");
+  w.time(sample.time);
+  w.text(",\"stopped\":");
+  w.boolean(r.stopped);
+
+  w.member(",\"velocity\":{\"vx\":", r.velocity.vx, 3);
+  w.member(",\"vy\":", r.velocity.vy, 3);
+  w.member(",\"wz\":", r.velocity.wz, 3);
+
+  w.text("},\"accel\":");
+  w.vector(r.accel, 4);
+  w.text(",\"gyro\":");
+  w.vector(r.gyro, 5);
+
+  w.member(",\"battery\":{\"voltage\":", r.battery_v, 3);
+  w.text(",\"low\":");
+  w.boolean(sample.battery_low);
+
+  w.member("},\"odom\":{\"x\":", sample.odom.x, 6);
+  w.member(",\"y\":", sample.odom.y, 6);
+  w.member(",\"yaw\":", sample.odom.yaw, 6);
+
+  const Orientation& o = sample.orientation;
+  w.member("},\"orientation\":{\"w\":", o.w, 6);
+  w.member(",\"x\":", o.x, 6);
+  w.member(",\"y\":", o.y, 6);
+  w.member(",\"z\":", o.z, 6);
+  w.member(",\"roll\":", o.roll, 6);
+  w.member(",\"pitch\":", o.pitch, 6);
+  w.member(",\"yaw\":", o.yaw, 6);
+  w.text("}}");
 }
 
 }  // namespace
 
 void append_telemetry_json(std::string& out, const TelemetrySample& sample) {
-  const TelemetryRecord& r = sample.record;
-  out += "{\"seq\":";
-  append_integer(out, sample.seq);
-  out += ",\"time\":";
-  append_time(out, sample.time);
-  out += ",\"stopped\":";
-  append_bool(out, r.stopped);
-
-  append_member(out, ",\"velocity\":{\"vx\":", r.velocity.vx, 3);
-  append_member(out, ",\"vy\":", r.velocity.vy, 3);
-  append_member(out, ",\"wz\":", r.velocity.wz, 3);
-
-  out += "},\"accel\":";
-  append_vector(out, r.accel, 4);
-  out += ",\"gyro\":";
-  append_vector(out, r.gyro, 5);
-
-  append_member(out, ",\"battery\":{\"voltage\":", r.battery_v, 3);
-  out += ",\"low\":";
-  append_bool(out, sample.battery_low);
-
-  append_member(out, "},\"odom\":{\"x\":", sample.odom.x, 6);
-  append_member(out, ",\"y\":", sample.odom.y, 6);
-  append_member(out, ",\"yaw\":", sample.odom.yaw, 6);
-
-  const Orientation& o = sample.orientation;
-  append_member(out, "},\"orientation\":{\"w\":", o.w, 6);
-  append_member(out, ",\"x\":", o.x, 6);
-  append_member(out, ",\"y\":", o.y, 6);
-  append_member(out, ",\"z\":", o.z, 6);
-  append_member(out, ",\"roll\":", o.roll, 6);
-  append_member(out, ",\"pitch\":", o.pitch, 6);
-  append_member(out, ",\"yaw\":", o.yaw, 6);
-  out += "}}";
+  RecordWriter writer;
+  write_record(writer, sample);
+  writer.append_to(out);
 }
 
 void append_telemetry_notification(std::string& out, const TelemetrySample& sample) {
-  out += "{\"jsonrpc\":\"2.0\",\"method\":\"telemetry\",\"params\":";
-  append_telemetry_json(out, sample);
-  out += "}\n";
+  RecordWriter writer;
+  writer.text("{\"jsonrpc\":\"2.0\",\"method\":\"telemetry\",\"params\":");
+  write_record(writer, sample);
+  writer.text("}\n");
+  writer.append_to(out);
 }
 
 }  // namespace wheeltec

@@ -1,7 +1,8 @@
 #pragma once
 
-// Non-blocking reads and writes of single frames on a raw CAN socket, with kernel
-// receive timestamps, and conversion to the protocol's CanFrame. No allocation.
+// Non-blocking reads (single frames, or all queued frames in one system call) and writes
+// of single frames on a raw CAN socket, with kernel receive timestamps, and conversion to
+// the protocol's CanFrame. No allocation.
 
 #include <linux/can.h>
 #include <linux/can/error.h>
@@ -13,6 +14,7 @@
 #include <chrono>
 #include <cstring>
 #include <optional>
+#include <span>
 
 #include <boost/system/error_code.hpp>
 
@@ -53,6 +55,21 @@ struct ReceivedFrame {
 // Reads one frame without blocking from the raw CAN socket `fd`. Empty with ec = would_block
 // when none is queued; empty with another ec (e.g. network_down, no_such_device) on a
 // socket error, or message_size for a short read.
+namespace detail {
+
+inline RealtimeNanos receive_time(msghdr& msg) noexcept {
+  for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
+    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_TIMESTAMPNS) {
+      timespec ts;
+      std::memcpy(&ts, CMSG_DATA(c), sizeof(ts));
+      return RealtimeNanos(std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec));
+    }
+  }
+  return RealtimeNanos{};
+}
+
+}  // namespace detail
+
 inline std::optional<ReceivedFrame> receive_frame(int fd, boost::system::error_code& ec) {
   can_frame raw;
   iovec iov{&raw, sizeof(raw)};
@@ -75,15 +92,63 @@ inline std::optional<ReceivedFrame> receive_frame(int fd, boost::system::error_c
   }
   ReceivedFrame out;
   out.frame = from_socketcan(raw);
-  for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
-    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_TIMESTAMPNS) {
-      timespec ts;
-      std::memcpy(&ts, CMSG_DATA(c), sizeof(ts));
-      out.time = RealtimeNanos(std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec));
-    }
-  }
+  out.time = detail::receive_time(msg);
   return out;
 }
+
+// Reads every frame queued on a raw CAN socket, up to Capacity, in one system call
+// (recvmmsg) without blocking. The message headers are set up once and reused.
+template <std::size_t Capacity>
+class frame_batch {
+ public:
+  frame_batch() noexcept {
+    for (std::size_t i = 0; i < Capacity; ++i) {
+      iov_[i] = iovec{&raw_[i], sizeof(raw_[i])};
+      std::memset(&messages_[i], 0, sizeof(messages_[i]));
+      messages_[i].msg_hdr.msg_iov = &iov_[i];
+      messages_[i].msg_hdr.msg_iovlen = 1;
+      messages_[i].msg_hdr.msg_control = control_[i];
+      messages_[i].msg_hdr.msg_controllen = sizeof(control_[i]);
+    }
+  }
+
+  frame_batch(const frame_batch&) = delete;
+  frame_batch& operator=(const frame_batch&) = delete;
+
+  // The frames queued on `fd`, in order. Fewer than Capacity means the queue was empty
+  // when the call returned, as a read ending in would_block would have shown. Empty with
+  // ec = would_block when none was queued, with another ec on a socket error. A short
+  // datagram (not a frame) is left out.
+  std::span<const ReceivedFrame> receive(int fd, boost::system::error_code& ec) {
+    int n;
+    do {
+      n = ::recvmmsg(fd, messages_, static_cast<unsigned>(Capacity), MSG_DONTWAIT, nullptr);
+    } while (n < 0 && errno == EINTR);
+    if (n < 0) {
+      ec.assign(errno, boost::system::system_category());
+      return {};
+    }
+    ec.clear();
+    std::size_t count = 0;
+    for (int i = 0; i < n; ++i) {
+      msghdr& header = messages_[i].msg_hdr;
+      if (messages_[i].msg_len >= sizeof(can_frame)) {
+        frames_[count].frame = from_socketcan(raw_[i]);
+        frames_[count].time = detail::receive_time(header);
+        ++count;
+      }
+      header.msg_controllen = sizeof(control_[i]);  // the kernel set it to what it wrote
+    }
+    return {frames_, count};
+  }
+
+ private:
+  can_frame raw_[Capacity];
+  iovec iov_[Capacity];
+  alignas(cmsghdr) char control_[Capacity][CMSG_SPACE(sizeof(timespec))];
+  mmsghdr messages_[Capacity];
+  ReceivedFrame frames_[Capacity];
+};
 
 inline std::optional<ReceivedFrame> receive_frame(raw_protocol::socket& socket, boost::system::error_code& ec) {
   return receive_frame(socket.native_handle(), ec);

@@ -5,10 +5,9 @@
 // handler runs once per wakeup rather than once per frame, and other handlers get their
 // turn between two batches.
 //
-// Per wakeup: epoll_wait, one recvmsg per frame and one that finds the socket empty, plus
-// the epoll_ctl with which Asio's epoll reactor re-arms the descriptor for each wait.
+// Per wakeup: epoll_wait, one recvmmsg for all the frames queued, and the epoll_ctl with
+// which Asio's epoll reactor re-arms the descriptor for each wait.
 
-#include <array>
 #include <cerrno>
 #include <cstddef>
 #include <functional>
@@ -49,24 +48,13 @@ class frame_reader {
 
  private:
   void read_batch() {
-    std::size_t count = 0;
     boost::system::error_code ec;
-    while (count < batch_capacity) {
-      if (auto received = receive_frame(socket_.native_handle(), ec)) {
-        delivered_[count++] = *received;
-        continue;
-      }
-      if (ec == boost::system::errc::message_size || ec.value() == EINTR) continue;  // short read: not a frame
-      if (ec.value() == EAGAIN || ec.value() == EWOULDBLOCK) {
-        ec.clear();
-        if (count == 0) {
-          wait();
-          return;
-        }
-      }
-      break;
+    const std::span<const ReceivedFrame> frames = batch_.receive(socket_.native_handle(), ec);
+    if (frames.empty() && (!ec || ec.value() == EAGAIN || ec.value() == EWOULDBLOCK)) {
+      wait();  // nothing to read after all, or only short datagrams
+      return;
     }
-    handler_(std::span<const ReceivedFrame>(delivered_.data(), count), ec);
+    handler_(frames, ec);
   }
 
   void wait() {
@@ -85,7 +73,7 @@ class frame_reader {
   handler_type handler_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
   std::uint64_t generation_ = 0;
-  std::array<ReceivedFrame, batch_capacity> delivered_{};
+  frame_batch<batch_capacity> batch_;
 };
 
 }  // namespace wheeltec::asio_can

@@ -1,0 +1,91 @@
+#include "wheeltec/fixed_decimal.hpp"
+
+#include <gtest/gtest.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <system_error>
+
+namespace {
+
+std::string fast(double value, int decimals) {
+  char buffer[400];
+  const auto result = wheeltec::fixed_decimal_to_chars(buffer, buffer + sizeof buffer, value, decimals);
+  EXPECT_EQ(result.ec, std::errc{});
+  return {buffer, result.ptr};
+}
+
+std::string standard(double value, int decimals) {
+  char buffer[400];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::fixed, decimals);
+  EXPECT_EQ(result.ec, std::errc{});
+  return {buffer, result.ptr};
+}
+
+TEST(FixedDecimal, WritesTelemetryValuesAsToChars) {
+  EXPECT_EQ(fast(0.2, 3), "0.200");
+  EXPECT_EQ(fast(-1.2345678, 6), "-1.234568");
+  EXPECT_EQ(fast(12.0, 0), "12");
+  EXPECT_EQ(fast(1712345678.123456, 6), "1712345678.123456");
+  EXPECT_EQ(fast(9.80665, 4), "9.8066");  // the double is 9.806649999...
+}
+
+TEST(FixedDecimal, KeepsTheSignOfNegativeZeroAndOfTinyNegatives) {
+  EXPECT_EQ(fast(-0.0, 3), standard(-0.0, 3));
+  EXPECT_EQ(fast(-0.0001, 3), standard(-0.0001, 3));
+  EXPECT_EQ(fast(-0.0001, 3), "-0.000");
+}
+
+TEST(FixedDecimal, RoundsExactTiesAsToChars) {
+  for (const double tie : {0.5, 1.5, 2.5, 0.125, 0.375, -0.125, 1.0625, 2.675, 1.0005, 0.0005}) {
+    for (int decimals = 0; decimals <= 4; ++decimals) {
+      EXPECT_EQ(fast(tie, decimals), standard(tie, decimals)) << tie << " with " << decimals;
+    }
+  }
+}
+
+TEST(FixedDecimal, FallsBackForHugeNonFiniteAndManyDecimals) {
+  for (const double value : {1e12, -3e15, 1e300, std::numeric_limits<double>::max(),
+                             std::numeric_limits<double>::denorm_min(),
+                             std::numeric_limits<double>::infinity(),
+                             -std::numeric_limits<double>::infinity(),
+                             std::numeric_limits<double>::quiet_NaN()}) {
+    for (const int decimals : {0, 3, 6, 9, 10, 17}) {
+      EXPECT_EQ(fast(value, decimals), standard(value, decimals)) << value << " with " << decimals;
+    }
+  }
+}
+
+TEST(FixedDecimal, MatchesToCharsOnRandomValuesOfEveryMagnitude) {
+  std::mt19937_64 random(20261126);
+  std::uniform_int_distribution<std::uint64_t> bits;
+  std::uniform_real_distribution<double> exponent(-12.0, 14.0);
+  std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
+  for (int i = 0; i < 200'000; ++i) {
+    const double value = mantissa(random) * std::pow(10.0, exponent(random));
+    const int decimals = static_cast<int>(bits(random) % 10);
+    ASSERT_EQ(fast(value, decimals), standard(value, decimals)) << value << " with " << decimals;
+  }
+  for (int i = 0; i < 100'000; ++i) {
+    // Values a decoder makes from raw integers: near-ties of the decimal scale.
+    const double value = static_cast<double>(static_cast<std::int64_t>(bits(random) % 2'000'001) - 1'000'000) / 2000.0;
+    const int decimals = static_cast<int>(bits(random) % 7);
+    ASSERT_EQ(fast(value, decimals), standard(value, decimals)) << value << " with " << decimals;
+  }
+}
+
+TEST(FixedDecimal, ReportsABufferTooSmallAsToCharsDoes) {
+  char buffer[4];
+  const auto result = wheeltec::fixed_decimal_to_chars(buffer, buffer + sizeof buffer, -12.5, 3);
+  EXPECT_EQ(result.ec, std::errc::value_too_large);
+  EXPECT_EQ(result.ptr, buffer + sizeof buffer);
+  const auto fits = wheeltec::fixed_decimal_to_chars(buffer, buffer + sizeof buffer, 1.25, 1);
+  ASSERT_EQ(fits.ec, std::errc{});
+  EXPECT_EQ(std::string(buffer, fits.ptr), standard(1.25, 1));
+}
+
+}  // namespace
