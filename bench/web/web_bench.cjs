@@ -67,6 +67,9 @@ function daemonSubscriber(path, latencies) {
   });
 }
 
+// Telemetry messages that every Foxglove client of the bench has received.
+let viewerMessages = 0;
+
 // A Foxglove client subscribed to /wheeltec/telemetry.
 function foxgloveViewer(url, latencies) {
   return new Promise((resolve, reject) => {
@@ -79,7 +82,10 @@ function foxgloveViewer(url, latencies) {
       client.subscribe(telemetry.id);
       resolve(client);
     });
-    client.on('message', ({ data }) => latencies.add(JSON.parse(new TextDecoder().decode(data)).time));
+    client.on('message', ({ data }) => {
+      ++viewerMessages;
+      latencies.add(JSON.parse(new TextDecoder().decode(data)).time);
+    });
   });
 }
 
@@ -158,7 +164,9 @@ function straceCalls(text) {
 }
 
 // wheeltec-web's system calls per record over `windowS`: strace attached to `pid`, the
-// records the daemon published counted from strace's "attached" to its detach.
+// records the daemon published counted from strace's "attached" to its detach, and the
+// records wheeltec-web forwarded (messages at the viewers / viewers): slowed by ptrace, it
+// reads the daemon late and the daemon coalesces telemetry for it, so these are fewer.
 async function syscallsPerRecord(pid, windowS) {
   const out = `${os.tmpdir()}/web-bench-strace-${pid}.txt`;
   let records = 0;
@@ -175,8 +183,10 @@ async function syscallsPerRecord(pid, windowS) {
     return { error: 'strace did not attach' };
   }
   counter.recording = true;
+  const messagesBefore = viewerMessages;
   await sleep(windowS * 1000);
   counter.recording = false;
+  const forwarded = (viewerMessages - messagesBefore) / viewers;
   strace.kill('SIGINT');
   await exited;
   socket.destroy();
@@ -184,7 +194,9 @@ async function syscallsPerRecord(pid, windowS) {
   fs.rmSync(out, { force: true });
   const perRecord = {};
   for (const [name, count] of Object.entries(calls)) perRecord[name] = records ? count / records : null;
-  return { seconds: windowS, records, calls, per_record: perRecord };
+  const perForwarded = {};
+  for (const [name, count] of Object.entries(calls)) perForwarded[name] = forwarded ? count / forwarded : null;
+  return { seconds: windowS, records, forwarded, calls, per_record: perRecord, per_forwarded_record: perForwarded };
 }
 
 const row = (name, s) => `| ${name} | ${s.n} | ${s.p50_ms?.toFixed(2)} | ${s.p99_ms?.toFixed(2)} | ${s.max_ms?.toFixed(2)} |`;
@@ -238,8 +250,11 @@ function syscallLine(what, s) {
   if (s.error) return `wheeltec-web system calls${what}: not counted (${s.error})`;
   const top = Object.entries(s.per_record).filter(([name]) => name !== 'total').sort((a, b) => b[1] - a[1]).slice(0, 5)
     .map(([name, n]) => `${name} ${n.toFixed(2)}`).join(', ');
-  return `wheeltec-web system calls with ${viewers} viewers${what} (strace -c -f, ${s.seconds} s, ${s.records} records): ` +
-    `${s.per_record.total?.toFixed(2)} per record (${top})`;
+  const topForwarded = Object.entries(s.per_forwarded_record).filter(([name]) => name !== 'total')
+    .sort((a, b) => b[1] - a[1]).slice(0, 5).map(([name, n]) => `${name} ${n.toFixed(2)}`).join(', ');
+  return `wheeltec-web system calls with ${viewers} viewers${what} (strace -c -f, ${s.seconds} s): ` +
+    `${s.per_record.total?.toFixed(2)} per record the daemon published (${s.records}; ${top}); ` +
+    `${s.per_forwarded_record.total?.toFixed(2)} per record wheeltec-web forwarded (${s.forwarded.toFixed(0)}; ${topForwarded})`;
 }
 
 const cpuLine = (what, cpu) => `wheeltec-web CPU with ${viewers} viewers${what}: ${cpu.cpu_s.toFixed(2)} s for ${cpu.records} ` +
