@@ -4,11 +4,13 @@
 # Linux on hosts without SocketCAN), measured by bench/web/web_bench.cjs:
 #   1. 0x103 frame (kernel timestamp) -> the record at 8 Foxglove clients, p50/p99, next to a
 #      direct subscriber of wheeltecd in the same run;
-#   2. wheeltec-web's CPU per record with those 8 viewers, and its RSS;
+#   2. wheeltec-web's CPU per record with those 8 viewers (10 ms ticks), its system calls per
+#      record (strace -c, exact), and its RSS; what it adds over the daemon's subscriber;
 #   3. the same latency at the page in headless Chromium, next to the daemon's subscriber.
+#   (--no-browser leaves 3 out.)
 # Telemetry at 50 Hz for 20 s per run; --quick: 5 s, to check that it works.
 #
-#   scripts/bench-web.sh [--quick]
+#   scripts/bench-web.sh [--quick] [--no-browser]
 #
 # BUILD_DIR (default build/) must hold wheeltec-emu, wheeltecd and wheeltec-web; npm's
 # Foxglove client is installed into BUILD_DIR/tests/web/node from tests/web/package-lock.json
@@ -19,12 +21,15 @@ REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
 BENCH_OUT=${BENCH_OUT:-$BUILD_DIR/bench-results}
 seconds=20
-case "${1:-}" in
-  --quick) seconds=5 ;;
-  "") ;;
-  -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
-  *) echo "bench-web.sh: unknown argument $1" >&2; exit 2 ;;
-esac
+browser=
+for argument in "$@"; do
+  case $argument in
+    --quick) seconds=5 ;;
+    --no-browser) browser=--no-browser ;;  # the Foxglove rounds only (Chromium in a loaded VM takes minutes)
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    *) echo "bench-web.sh: unknown argument $argument" >&2; exit 2 ;;
+  esac
+done
 
 for program in emulator/wheeltec-emu daemon/wheeltecd web/wheeltec-web; do
   [[ -x $BUILD_DIR/$program ]] || { echo "bench-web.sh: $BUILD_DIR/$program is not built" >&2; exit 1; }
@@ -39,7 +44,7 @@ mkdir -p "$BENCH_OUT"
 
 started=$SECONDS
 status=0
-"$REPO_ROOT/scripts/vcan-run" -- "$REPO_ROOT/bench/web/session.sh" "$BUILD_DIR" "$node_dir/node_modules" 50 "$seconds" \
+"$REPO_ROOT/scripts/vcan-run" -- "$REPO_ROOT/bench/web/session.sh" "$BUILD_DIR" "$node_dir/node_modules" 50 "$seconds" $browser \
   >"$BENCH_OUT/web-run.txt" || status=$?
 {
   echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs, load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s including the virtual machine's boot; telemetry at 50 Hz, ${seconds} s per run."

@@ -9,6 +9,7 @@
 #include "access.hpp"
 #include "foxglove.hpp"
 #include "http_session.hpp"
+#include "record_time.hpp"
 #include "tls_context.hpp"
 #include "tls_handshake.hpp"
 #include "viewer.hpp"
@@ -39,7 +40,7 @@ Server::Server(boost::asio::io_context& io, WebConfig config, std::optional<std:
       tls_(std::move(tls)),
       acceptor_(io, endpoint_of(config_.listen)),
       daemon_(io.get_executor(), config_.socket) {
-  daemon_.on_telemetry([this](const client::Telemetry& record) { handle_telemetry(record); });
+  daemon_.on_telemetry_text([this](std::string_view record) { handle_telemetry(record); });
   daemon_.on_status([this](const client::Status& status) { handle_status(status.json); });
   daemon_.on_up([this] { daemon_up(); });
   daemon_.on_down([this](const client::Subscription::Outage& outage) { daemon_down(outage); });
@@ -134,14 +135,40 @@ void Server::daemon_down(const client::Subscription::Outage& outage) {
   }
 }
 
-void Server::handle_telemetry(const client::Telemetry& record) {
+// The telemetry channel carries the record as the daemon sent it: its bytes are forwarded
+// and only its `time` is read. The odom and imu channels are built from the typed record,
+// parsed only when a viewer subscribes to one of them.
+void Server::handle_telemetry(std::string_view record) {
   if (viewers_.empty()) return;
-  const std::uint64_t timestamp = foxglove::timestamp_ns(record.time);
-  const auto telemetry = std::make_shared<const std::string>(record.json.dump());
-  const auto odom = std::make_shared<const std::string>(foxglove::odom_pose(record).dump());
-  const auto imu = std::make_shared<const std::string>(foxglove::imu(record).dump());
+  const auto time = record_time(record);
+  if (!time) {
+    if (records_without_time_++ % 1000 == 0) {
+      spdlog::warn("wheeltecd sent a telemetry record without a numeric \"time\" ({} so far), not forwarded: {:.200}",
+                   records_without_time_, record);
+    }
+    return;
+  }
+  const std::uint64_t timestamp = foxglove::timestamp_ns(*time);
+  const std::vector<std::shared_ptr<Viewer>> viewers(viewers_.begin(), viewers_.end());
+  bool pose_or_imu_wanted = false;
+  for (const auto& viewer : viewers) {
+    viewer->send_channel(foxglove::ChannelId::telemetry, timestamp, record);
+    pose_or_imu_wanted = pose_or_imu_wanted || viewer->subscribed_to(foxglove::ChannelId::odom) ||
+                         viewer->subscribed_to(foxglove::ChannelId::imu);
+  }
+  if (pose_or_imu_wanted) send_pose_and_imu(record, timestamp);
+}
+
+void Server::send_pose_and_imu(std::string_view record, std::uint64_t timestamp) {
+  client::Telemetry typed;
+  try {
+    typed = client::telemetry_from_json(client::Json::parse(record));
+  } catch (const client::Json::exception&) {
+    return;  // a record of a newer protocol that lacks a field: no pose or imu from it
+  }
+  const std::string odom = foxglove::odom_pose(typed).dump();
+  const std::string imu = foxglove::imu(typed).dump();
   for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
-    viewer->send_channel(foxglove::ChannelId::telemetry, timestamp, telemetry);
     viewer->send_channel(foxglove::ChannelId::odom, timestamp, odom);
     viewer->send_channel(foxglove::ChannelId::imu, timestamp, imu);
   }
@@ -149,10 +176,9 @@ void Server::handle_telemetry(const client::Telemetry& record) {
 
 void Server::handle_status(const client::Json& status) {
   latest_status_ = status.dump();
-  const auto payload = std::make_shared<const std::string>(*latest_status_);
   const std::uint64_t timestamp = now_ns();
   for (const auto& viewer : std::vector(viewers_.begin(), viewers_.end())) {
-    viewer->send_channel(foxglove::ChannelId::status, timestamp, payload);
+    viewer->send_channel(foxglove::ChannelId::status, timestamp, *latest_status_);
   }
 }
 

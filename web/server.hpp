@@ -9,6 +9,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -59,7 +60,8 @@ class Server {
   void accept();
   void daemon_up();
   void daemon_down(const client::Subscription::Outage& outage);
-  void handle_telemetry(const client::Telemetry& record);
+  void handle_telemetry(std::string_view record);
+  void send_pose_and_imu(std::string_view record, std::uint64_t timestamp);
   void handle_status(const client::Json& status);
 
   boost::asio::io_context& io_;
@@ -73,6 +75,7 @@ class Server {
   std::shared_ptr<std::size_t> connections_ = std::make_shared<std::size_t>(0);  // HTTP sessions open
   std::uint64_t sessions_ = 0;
   std::optional<std::string> latest_status_;
+  std::uint64_t records_without_time_ = 0;
   bool stopped_ = false;
 };
 

@@ -188,12 +188,19 @@ void Viewer::publish(const foxglove::ClientPublish& message) {
                 });
 }
 
-void Viewer::send_channel(foxglove::ChannelId channel, std::uint64_t timestamp_ns,
-                          const std::shared_ptr<const std::string>& payload) {
+bool Viewer::subscribed_to(foxglove::ChannelId channel) const {
+  if (closed_) return false;
+  for (const auto& [subscription, subscribed] : subscriptions_) {
+    if (subscribed == channel) return true;
+  }
+  return false;
+}
+
+void Viewer::send_channel(foxglove::ChannelId channel, std::uint64_t timestamp_ns, std::string_view payload) {
   if (closed_) return;
   for (const auto& [subscription, subscribed] : subscriptions_) {
     if (subscribed != channel) continue;
-    enqueue({foxglove::message_data(subscription, timestamp_ns, *payload), true,
+    enqueue({foxglove::message_data(subscription, timestamp_ns, payload), true,
              channel != foxglove::ChannelId::status});
     if (closed_) return;
   }

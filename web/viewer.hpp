@@ -36,8 +36,8 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
 
   // A message on one of the server's channels: to each subscription of it. Telemetry
   // channels may be dropped for a slow viewer; status is not.
-  void send_channel(foxglove::ChannelId channel, std::uint64_t timestamp_ns,
-                    const std::shared_ptr<const std::string>& payload);
+  void send_channel(foxglove::ChannelId channel, std::uint64_t timestamp_ns, std::string_view payload);
+  bool subscribed_to(foxglove::ChannelId channel) const;
   void send_status(foxglove::Level level, std::string_view message, std::string_view id = {});
   // Closes the connection at once (server shutting down).
   void shutdown();

@@ -38,6 +38,10 @@ done
 
 args=(--socket "$work/wheeltecd.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds"
       --tls-url "https://127.0.0.1:$tls_port" --tls-web-pid "$tls_web_pid")
+# strace counts wheeltec-web's system calls per record exactly (User-Mode Linux charges CPU
+# time in whole 10 ms ticks).
+strace=$(command -v strace || true)
+[[ -n $strace ]] && args+=(--strace "$strace")
 if [[ $browser != --no-browser ]]; then
   mkdir -p "$work/home"
   HOME=$work/home /usr/bin/chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \

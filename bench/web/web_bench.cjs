@@ -8,15 +8,20 @@
 //   3. with --devtools PORT (headless Chromium started with --remote-debugging-port and a
 //      blank page): the same latency at wheeltec-web's own page, measured in the page as
 //      its WebSocket delivers each telemetry message, next to the daemon's subscriber again.
-//   4. with --tls-url https://127.0.0.1:PORT2 --tls-web-pid PID2 (a second wheeltec-web with a
+//   4. with --strace PATH: wheeltec-web's system calls per record with those 8 viewers,
+//      counted exactly (strace -c -f -p, attached for half the run after the latency window,
+//      so that strace's own cost is not in the latencies), by system call;
+//   5. with --tls-url https://127.0.0.1:PORT2 --tls-web-pid PID2 (a second wheeltec-web with a
 //      certificate that $NODE_EXTRA_CA_CERTS trusts): round 1 and 2 again over wss://.
 //   node web_bench.cjs --socket PATH --url http://127.0.0.1:PORT --web-pid PID
 //                      [--viewers 8] [--seconds 20] [--devtools PORT]
-//                      [--tls-url https://127.0.0.1:PORT2 --tls-web-pid PID2]
+//                      [--tls-url https://127.0.0.1:PORT2 --tls-web-pid PID2] [--strace PATH]
 // Prints a table and, last, one JSON line with every figure.
 'use strict';
 const fs = require('fs');
 const net = require('net');
+const os = require('os');
+const { spawn } = require('child_process');
 const WebSocket = require('ws');
 const { FoxgloveClient } = require('@foxglove/ws-protocol');
 const { openPage } = require('../../tests/web/clients/devtools.cjs');
@@ -62,6 +67,9 @@ function daemonSubscriber(path, latencies) {
   });
 }
 
+// Telemetry messages that every Foxglove client of the bench has received.
+let viewerMessages = 0;
+
 // A Foxglove client subscribed to /wheeltec/telemetry.
 function foxgloveViewer(url, latencies) {
   return new Promise((resolve, reject) => {
@@ -74,7 +82,10 @@ function foxgloveViewer(url, latencies) {
       client.subscribe(telemetry.id);
       resolve(client);
     });
-    client.on('message', ({ data }) => latencies.add(JSON.parse(new TextDecoder().decode(data)).time));
+    client.on('message', ({ data }) => {
+      ++viewerMessages;
+      latencies.add(JSON.parse(new TextDecoder().decode(data)).time);
+    });
   });
 }
 
@@ -139,6 +150,55 @@ async function browserLatencies(port, pageUrl, daemonLatencies) {
   return page;
 }
 
+// strace -c's table: calls per system call name, and "total".
+function straceCalls(text) {
+  const calls = {};
+  for (const line of text.split('\n')) {
+    const fields = line.trim().split(/\s+/);
+    const name = fields.at(-1);
+    if (fields.length < 5 || !/^[a-z_0-9]+$/.test(name) || !/^[0-9.]+$/.test(fields[0])) continue;
+    // % time, seconds, usecs/call, calls, [errors,] syscall
+    calls[name] = Number(fields[3]);
+  }
+  return calls;
+}
+
+// wheeltec-web's system calls per record over `windowS`: strace attached to `pid`, the
+// records the daemon published counted from strace's "attached" to its detach, and the
+// records wheeltec-web forwarded (messages at the viewers / viewers): slowed by ptrace, it
+// reads the daemon late and the daemon coalesces telemetry for it, so these are fewer.
+async function syscallsPerRecord(pid, windowS) {
+  const out = `${os.tmpdir()}/web-bench-strace-${pid}.txt`;
+  let records = 0;
+  const counter = new Latencies();
+  counter.add = () => { if (counter.recording) ++records; };
+  const socket = await daemonSubscriber(options.socket, counter);
+  await sleep(300);
+  const strace = spawn(options.strace, ['-c', '-f', '-p', String(pid), '-o', out], { stdio: ['ignore', 'ignore', 'pipe'] });
+  const exited = new Promise((resolve) => strace.on('exit', resolve));
+  const attached = new Promise((resolve) => strace.stderr.on('data', (chunk) => { if (/attached/.test(chunk)) resolve(true); }));
+  if (!await Promise.race([attached, sleep(10000).then(() => false)])) {
+    strace.kill('SIGKILL');
+    socket.destroy();
+    return { error: 'strace did not attach' };
+  }
+  counter.recording = true;
+  const messagesBefore = viewerMessages;
+  await sleep(windowS * 1000);
+  counter.recording = false;
+  const forwarded = (viewerMessages - messagesBefore) / viewers;
+  strace.kill('SIGINT');
+  await exited;
+  socket.destroy();
+  const calls = straceCalls(fs.readFileSync(out, 'utf8'));
+  fs.rmSync(out, { force: true });
+  const perRecord = {};
+  for (const [name, count] of Object.entries(calls)) perRecord[name] = records ? count / records : null;
+  const perForwarded = {};
+  for (const [name, count] of Object.entries(calls)) perForwarded[name] = forwarded ? count / forwarded : null;
+  return { seconds: windowS, records, forwarded, calls, per_record: perRecord, per_forwarded_record: perForwarded };
+}
+
 const row = (name, s) => `| ${name} | ${s.n} | ${s.p50_ms?.toFixed(2)} | ${s.p99_ms?.toFixed(2)} | ${s.max_ms?.toFixed(2)} |`;
 
 // One round: `viewers` Foxglove clients at wsUrl next to a direct subscriber of the daemon,
@@ -161,6 +221,9 @@ async function foxgloveRound(wsUrl, pid) {
   daemon.recording = foxglove.recording = counter.recording = false;
   const cpu = cpuSeconds(pid) - cpuBefore;
   counting.destroy();
+  console.error(`web_bench: latency window done (${wsUrl})`);
+  const syscalls = options.strace ? await syscallsPerRecord(pid, Math.max(2, seconds / 2)) : null;
+  if (options.strace) console.error('web_bench: system calls counted');
   daemonSocket.destroy();
   for (const client of clients) client.close();
   return {
@@ -168,7 +231,30 @@ async function foxgloveRound(wsUrl, pid) {
     cpu: { records, cpu_s: cpu, us_per_record: records ? (cpu / records) * 1e6 : null,
            us_per_message: records ? (cpu / (records * viewers)) * 1e6 : null, tick_s: 0.01 },
     memory: memoryKiB(pid),
+    syscalls,
   };
+}
+
+// What wheeltec-web adds to the daemon's own subscriber in the same run, against issue
+// #23's target of at most 0.3 ms at p50 and at p99.
+function added(round) {
+  const p50 = round.viewers.p50_ms - round.daemon.p50_ms;
+  const p99 = round.viewers.p99_ms - round.daemon.p99_ms;
+  return { p50_ms: p50, p99_ms: p99, target_ms: 0.3, met: p50 <= 0.3 && p99 <= 0.3 };
+}
+const addedLine = (what, a) => `added by wheeltec-web${what} over the daemon's subscriber: p50 ${a.p50_ms.toFixed(2)} ms, ` +
+  `p99 ${a.p99_ms.toFixed(2)} ms (target: at most ${a.target_ms} ms each; ${a.met ? 'met' : 'not met'})`;
+
+function syscallLine(what, s) {
+  if (!s) return `wheeltec-web system calls${what}: not counted (no strace)`;
+  if (s.error) return `wheeltec-web system calls${what}: not counted (${s.error})`;
+  const top = Object.entries(s.per_record).filter(([name]) => name !== 'total').sort((a, b) => b[1] - a[1]).slice(0, 5)
+    .map(([name, n]) => `${name} ${n.toFixed(2)}`).join(', ');
+  const topForwarded = Object.entries(s.per_forwarded_record).filter(([name]) => name !== 'total')
+    .sort((a, b) => b[1] - a[1]).slice(0, 5).map(([name, n]) => `${name} ${n.toFixed(2)}`).join(', ');
+  return `wheeltec-web system calls with ${viewers} viewers${what} (strace -c -f, ${s.seconds} s): ` +
+    `${s.per_record.total?.toFixed(2)} per record the daemon published (${s.records}; ${top}); ` +
+    `${s.per_forwarded_record.total?.toFixed(2)} per record wheeltec-web forwarded (${s.forwarded.toFixed(0)}; ${topForwarded})`;
 }
 
 const cpuLine = (what, cpu) => `wheeltec-web CPU with ${viewers} viewers${what}: ${cpu.cpu_s.toFixed(2)} s for ${cpu.records} ` +
@@ -180,11 +266,14 @@ async function main() {
   const plain = await foxgloveRound(options.url.replace(/^http/, 'ws'), options.webPid);
   result.foxglove = { daemon: plain.daemon, viewers: plain.viewers };
   result.cpu = plain.cpu;
+  result.syscalls = plain.syscalls;
+  result.added = added(plain);
   result.memory = plain.memory;
   if (options.tlsUrl) {
     // wss:// to a second wheeltec-web with a certificate ($NODE_EXTRA_CA_CERTS trusts it).
     const tls = await foxgloveRound(options.tlsUrl.replace(/^https/, 'wss'), options.tlsWebPid);
-    result.tls = { daemon: tls.daemon, viewers: tls.viewers, cpu: tls.cpu, memory: tls.memory };
+    result.tls = { daemon: tls.daemon, viewers: tls.viewers, cpu: tls.cpu, memory: tls.memory, added: added(tls),
+                   syscalls: tls.syscalls };
   }
 
   if (options.devtools) {
@@ -207,8 +296,12 @@ async function main() {
     console.log(row('wheeltecd subscriber (browser run)', result.browser.daemon));
     console.log(row('the page in headless Chromium', result.browser.page));
   }
+  console.log(addedLine('', result.added));
+  if (result.tls) console.log(addedLine(' over wss://', result.tls.added));
   console.log(cpuLine('', result.cpu));
   if (result.tls) console.log(cpuLine(' over wss://', result.tls.cpu));
+  console.log(syscallLine('', result.syscalls));
+  if (result.tls) console.log(syscallLine(' over wss://', result.tls.syscalls));
   console.log(`wheeltec-web memory: RSS ${result.memory.rss_kib} KiB, peak ${result.memory.peak_rss_kib} KiB` +
               (result.tls ? `; with TLS: RSS ${result.tls.memory.rss_kib} KiB, peak ${result.tls.memory.peak_rss_kib} KiB` : ''));
   console.log(JSON.stringify(result));

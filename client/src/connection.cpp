@@ -2,10 +2,13 @@
 
 #include "wheeltec/error_codes.hpp"
 
+#include "notification_line.hpp"
+
 #include <cstdlib>
 #include <deque>
-#include <istream>
 #include <map>
+#include <string_view>
+#include <variant>
 
 #include <boost/asio/local/stream_protocol.hpp>
 #include <boost/asio/post.hpp>
@@ -77,6 +80,7 @@ class Connection::State : public std::enable_shared_from_this<State> {
   }
 
   TelemetryHandler telemetry_handler_;
+  TelemetryTextHandler telemetry_text_handler_;
   StatusHandler status_handler_;
   CloseHandler close_handler_;
   boost::asio::local::stream_protocol::socket socket_;
@@ -108,21 +112,38 @@ class Connection::State : public std::enable_shared_from_this<State> {
   void read_next() {
     boost::asio::async_read_until(socket_, input_, '\n', [self = shared_from_this()](auto ec, std::size_t n) {
       if (ec) return self->fail(ec == boost::asio::error::not_found ? boost::asio::error::message_size : ec);
-      std::string line(n - 1, '\0');
-      std::istream stream(&self->input_);
-      stream.read(line.data(), static_cast<std::streamsize>(n - 1));
-      stream.ignore(1);
-      if (!self->handle_line(line)) return self->fail(boost::asio::error::invalid_argument);
+      // A streambuf's input is one contiguous buffer: the line is read where it lies.
+      const std::string_view line(static_cast<const char*>(self->input_.data().data()), n - 1);
+      const bool understood = self->handle_line(line);
+      self->input_.consume(n);
+      if (!understood) return self->fail(boost::asio::error::invalid_argument);
       if (self->socket_.is_open()) self->read_next();
     });
   }
 
   // False when the line is not a JSON object: the daemon does not speak this protocol.
-  bool handle_line(const std::string& line) {
-    Json message = Json::parse(line, nullptr, /*allow_exceptions=*/false);
+  bool handle_line(std::string_view line) {
+    const NotificationRead read = read_notification(line);
+    if (const auto* notification = std::get_if<DaemonNotification>(&read)) {
+      deliver_notification(notification->method, notification->params);
+      return true;
+    }
+    if (std::holds_alternative<MalformedLine>(read)) return false;
+    try {
+      return handle_message(Json::parse(line, nullptr, /*allow_exceptions=*/false));
+    } catch (const Json::exception&) {
+      return false;  // a member of the wrong type where this protocol fixes it
+    }
+  }
+
+  bool handle_message(const Json& message) {
     if (!message.is_object()) return false;
     if (const auto method = message.find("method"); method != message.end()) {
-      deliver_notification(method->get<std::string>(), message.value("params", Json()));
+      if (!method->is_string()) return false;
+      const Json params = message.value("params", Json());
+      const std::string name = method->get<std::string>();
+      if (name == "telemetry" && telemetry_text_handler_ && params.is_object()) telemetry_text_handler_(params.dump());
+      deliver_parsed(name, params);
       return true;
     }
     const auto id = message.find("id");
@@ -132,15 +153,26 @@ class Connection::State : public std::enable_shared_from_this<State> {
     CallHandler handler = std::move(call->second.handler);
     pending_.erase(call);
     if (const auto error = message.find("error"); error != message.end()) {
-      const int code = error->is_object() ? error->value("code", 0) : 0;
-      handler(boost::system::error_code(code, rpc_category()), *error);
+      const auto code = error->is_object() ? error->find("code") : error->end();
+      const int value = code != error->end() && code->is_number_integer() ? code->get<int>() : 0;
+      handler(boost::system::error_code(value, rpc_category()), *error);
     } else {
       handler({}, message.value("result", Json()));
     }
     return true;
   }
 
-  void deliver_notification(const std::string& method, const Json& params) {
+  // `params` is valid JSON (read_notification checked it): parsed only for a handler that
+  // wants the typed record.
+  void deliver_notification(std::string_view method, std::string_view params) {
+    const bool telemetry = method == "telemetry";
+    if (telemetry && telemetry_text_handler_ && params.starts_with('{')) telemetry_text_handler_(params);
+    if ((telemetry && telemetry_handler_) || (method == "status" && status_handler_)) {
+      deliver_parsed(method, Json::parse(params));
+    }
+  }
+
+  void deliver_parsed(std::string_view method, const Json& params) {
     try {
       if (method == "telemetry" && telemetry_handler_) telemetry_handler_(telemetry_from_json(params));
       if (method == "status" && status_handler_) status_handler_(status_from_json(params));
@@ -195,12 +227,15 @@ void Connection::async_call(const std::string& method, Json params, CallHandler 
 
 void Connection::async_subscribe(CallHandler handler) {
   Json topics = Json::array();
-  if (state_->telemetry_handler_) topics.push_back("telemetry");
+  if (state_->telemetry_handler_ || state_->telemetry_text_handler_) topics.push_back("telemetry");
   if (state_->status_handler_) topics.push_back("status");
   async_call("subscribe", {{"topics", topics}}, std::move(handler));
 }
 
 void Connection::on_telemetry(TelemetryHandler handler) { state_->telemetry_handler_ = std::move(handler); }
+void Connection::on_telemetry_text(TelemetryTextHandler handler) {
+  state_->telemetry_text_handler_ = std::move(handler);
+}
 void Connection::on_status(StatusHandler handler) { state_->status_handler_ = std::move(handler); }
 void Connection::on_close(CloseHandler handler) { state_->close_handler_ = std::move(handler); }
 

@@ -30,6 +30,11 @@ class Subscription::State : public std::enable_shared_from_this<State> {
         if (auto self = weak.lock(); self && !self->stopped_) self->telemetry_handler_(record);
       });
     }
+    if (telemetry_text_handler_) {
+      connection_->on_telemetry_text([weak](std::string_view record) {
+        if (auto self = weak.lock(); self && !self->stopped_) self->telemetry_text_handler_(record);
+      });
+    }
     if (status_handler_) {
       connection_->on_status([weak](const Status& status) {
         if (auto self = weak.lock(); self && !self->stopped_) self->status_handler_(status);
@@ -68,6 +73,7 @@ class Subscription::State : public std::enable_shared_from_this<State> {
   }
 
   Connection::TelemetryHandler telemetry_handler_;
+  Connection::TelemetryTextHandler telemetry_text_handler_;
   Connection::StatusHandler status_handler_;
   UpHandler up_handler_;
   DownHandler down_handler_;
@@ -119,6 +125,9 @@ Subscription::Subscription(boost::asio::any_io_executor executor, std::string so
 Subscription::~Subscription() { stop(); }
 
 void Subscription::on_telemetry(Connection::TelemetryHandler handler) { state_->telemetry_handler_ = std::move(handler); }
+void Subscription::on_telemetry_text(Connection::TelemetryTextHandler handler) {
+  state_->telemetry_text_handler_ = std::move(handler);
+}
 void Subscription::on_status(Connection::StatusHandler handler) { state_->status_handler_ = std::move(handler); }
 void Subscription::on_up(UpHandler handler) { state_->up_handler_ = std::move(handler); }
 void Subscription::on_down(DownHandler handler) { state_->down_handler_ = std::move(handler); }

@@ -35,6 +35,9 @@ class Connection {
   // On an rpc_category() error the Json is the daemon's error object (code, message, data).
   using CallHandler = std::function<void(boost::system::error_code, Json)>;
   using TelemetryHandler = std::function<void(const Telemetry&)>;
+  // The record's JSON text as the daemon sent it (the notification's params, an object),
+  // not parsed into a tree: for programs that forward it. Valid during the call only.
+  using TelemetryTextHandler = std::function<void(std::string_view record)>;
   using StatusHandler = std::function<void(const Status&)>;
   using CloseHandler = std::function<void(boost::system::error_code)>;
 
@@ -49,6 +52,8 @@ class Connection {
   void async_subscribe(CallHandler handler);
 
   void on_telemetry(TelemetryHandler handler);
+  // May be set with on_telemetry or instead of it; the text comes first.
+  void on_telemetry_text(TelemetryTextHandler handler);
   void on_status(StatusHandler handler);
   // The daemon closed the connection or it failed; pending calls got the same error.
   void on_close(CloseHandler handler);

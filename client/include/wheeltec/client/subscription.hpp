@@ -40,6 +40,7 @@ class Subscription {
 
   // Handlers are set before start().
   void on_telemetry(Connection::TelemetryHandler handler);
+  void on_telemetry_text(Connection::TelemetryTextHandler handler);  // Connection::on_telemetry_text
   // Every status notification, and the status read after each subscription.
   void on_status(Connection::StatusHandler handler);
   void on_up(UpHandler handler);      // subscribed, the first time or again
