@@ -96,7 +96,8 @@ void Bridge::broker_connected() {
 }
 
 void Bridge::broker_lost(const std::string& reason) {
-  // Nobody remote can see or steer the robot now. The stop is written first, the log line after it.
+  // Nobody remote can see or steer the robot now.
+  spdlog::warn("broker lost ({}): stopping the robot", reason);
   ++counters_.stops_on_broker_loss;
   if (daemon_.up()) {
     daemon_.async_call("stop", nullptr, [](boost::system::error_code ec, const Json&) {
@@ -104,7 +105,6 @@ void Bridge::broker_lost(const std::string& reason) {
     });
   }
   operators_.close_all();
-  spdlog::warn("broker lost ({}): stopping the robot", reason);
 }
 
 void Bridge::flush_backlog() {

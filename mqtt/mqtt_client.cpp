@@ -124,14 +124,6 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
     if (phase_ != Phase::connected) return false;
     const int rc = mosquitto_publish_v5(mosq_, nullptr, topic.c_str(), static_cast<int>(payload.size()),
                                         payload.data(), qos, retain, properties);
-    if (rc == MOSQ_ERR_CONN_LOST || (rc == MOSQ_ERR_ERRNO && (errno == EPIPE || errno == ECONNRESET))) {
-      // libmosquitto wrote the packet at once and found the broker gone (EPIPE: a killed
-      // broker's socket, often seen by a telemetry publish before any read). It neither
-      // closes nor reports that here; waiting for the next write or read to notice it again
-      // cost another round of the event loop before the robot was stopped.
-      connection_lost(error_text(rc));
-      return false;
-    }
     if (rc != MOSQ_ERR_SUCCESS) spdlog::debug("publish on {} failed: {}", topic, error_text(rc));
     watch_writes();
     return rc == MOSQ_ERR_SUCCESS;
@@ -265,23 +257,18 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
   }
 
   // Idempotent: libmosquitto reports a loss through its callback, and the loop calls notice it too.
-  // The lost handler (which stops the robot) runs first: the bookkeeping and the log lines
-  // after it are system calls (in User-Mode Linux 0.1 ms or more each) that the stop need
-  // not wait for.
   void connection_lost(const std::string& reason) {
     if (phase_ != Phase::connecting && phase_ != Phase::connected) return;
     const bool was_connected = phase_ == Phase::connected;
-    phase_ = Phase::waiting;  // nothing more is published on this connection
+    release_descriptor();
     const std::string why = refusal_.empty() ? reason : "refused: " + refusal_;
     refusal_.clear();
     if (was_connected) {
       ++losses_;
-      if (lost_handler_) lost_handler_(why);
-      if (phase_ == Phase::stopped) return;  // the handler stopped the client
+      spdlog::warn("lost the broker {}:{}: {}", broker_.host, broker_.port, why);
     }
-    release_descriptor();
-    if (was_connected) spdlog::warn("lost the broker {}:{}: {}", broker_.host, broker_.port, why);
     fail_attempt(fmt::format("no connection to the broker {}:{}: {}", broker_.host, broker_.port, why));
+    if (was_connected && lost_handler_) lost_handler_(why);
   }
 
   void deliver(const mosquitto_message& message, const mosquitto_property* properties) {

@@ -60,10 +60,8 @@ class Connection::State : public std::enable_shared_from_this<State> {
     const std::uint64_t id = next_id_++;
     Json request = {{"jsonrpc", "2.0"}, {"id", id}, {"method", method}};
     if (!params.is_null()) request["params"] = std::move(params);
-    // Sent before the clock is read: in User-Mode Linux reading it is a system call.
-    auto& pending = pending_.emplace(id, Pending{std::move(handler), {}}).first->second;
+    pending_.emplace(id, Pending{std::move(handler), std::chrono::steady_clock::now() + kReplyTimeout});
     send(request.dump() + "\n");
-    pending.deadline = std::chrono::steady_clock::now() + kReplyTimeout;
     arm_reply_timer();
   }
 

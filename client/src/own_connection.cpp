@@ -21,10 +21,10 @@ void OwnConnection::call(const std::string& method, Json params, Handler handler
 }
 
 void OwnConnection::drive(const Velocity& velocity, Handler handler) {
+  last_used_ = Clock::now();
   waiting_drive_ = Request{"drive", to_json(velocity), std::move(handler)};
-  if (!is_open()) connect();
-  else if (!drive_in_flight_) send_drive();
-  last_used_ = Clock::now();  // after the request is written: the clock is a system call in User-Mode Linux
+  if (!is_open()) return connect();
+  if (!drive_in_flight_) send_drive();
 }
 
 void OwnConnection::connect() {
