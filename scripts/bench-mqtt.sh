@@ -5,6 +5,11 @@
 # without SocketCAN), measured by wheeltec-bench-mqtt (bench/mqtt/):
 #   1. drive published on the broker -> first 0x121 frame with its velocity, p50/p99, next to
 #      the same drive written on wheeltecd's socket;
+#   1b. the same drives through a minimal Python bridge on paho-mqtt (bench/mqtt/paho_bridge.py,
+#      Debian's python3-paho-mqtt, on the same daemon and broker, alternating blocks), and what
+#      each bridge adds over the daemon's socket;
+#   1c. broker loss -> zero frame: the broker SIGKILLed while a bridge drives, to the first
+#      0x121 frame with zero velocity, for each bridge, several rounds;
 #   2. 0x103 frame on the bus (kernel timestamp) -> the record at an MQTT subscriber,
 #      p50/p99, next to a direct subscriber of the daemon;
 #   3. the bridge's CPU per record (utime+stime over the run / records published), and its
@@ -30,7 +35,7 @@ while (($#)); do
   case "$1" in
     --quick) QUICK=1 ;;
     --) shift; extra=("$@"); break ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     *) echo "bench-mqtt.sh: unknown argument $1" >&2; exit 2 ;;
   esac
   shift
@@ -38,7 +43,8 @@ done
 
 # shellcheck source=lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
-install_packages libmosquitto-dev mosquitto strace "${WHEELTEC_VCAN_PACKAGES[@]}"
+# python3-paho-mqtt: the Python bridge (bench/mqtt/paho_bridge.py) measured next to wheeltec-mqtt.
+install_packages libmosquitto-dev mosquitto strace python3-paho-mqtt "${WHEELTEC_VCAN_PACKAGES[@]}"
 
 if [[ ! -f $BUILD_DIR/build.ninja ]]; then
   cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWHEELTEC_BUILD_BENCHMARKS=ON >/dev/null
@@ -67,7 +73,8 @@ started=$SECONDS
 status=0
 VCAN_INTERFACES=${interfaces% } "$REPO_ROOT/scripts/vcan-run" -- "$BUILD_DIR/bench/wheeltec-bench-mqtt" \
   --wheeltecd "$BUILD_DIR/daemon/wheeltecd" --emulator "$BUILD_DIR/emulator/wheeltec-emu" \
-  --bridge "$BUILD_DIR/mqtt/wheeltec-mqtt" --mosquitto "$(command -v mosquitto || echo /usr/sbin/mosquitto)" \
+  --bridge "$BUILD_DIR/mqtt/wheeltec-mqtt" --paho-bridge "$REPO_ROOT/bench/mqtt/paho_bridge.py" --python /usr/bin/python3 \
+  --mosquitto "$(command -v mosquitto || echo /usr/sbin/mosquitto)" \
   --robots "$robots" --json "$BENCH_OUT/mqtt.json" "${args[@]}" "${extra[@]}" >"$BENCH_OUT/mqtt-table.body.md" ||
   status=$?
 

@@ -108,14 +108,14 @@ bool has_enable_prefix(const wheeltec::CanFrame& frame) {
 
 }  // namespace
 
-std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s, int timeout_ms) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   while (std::chrono::steady_clock::now() < deadline) {
     boost::system::error_code ec;
     auto received = wheeltec::asio_can::receive_frame(control.fd(), ec);
     if (!received) {
       pollfd ready{control.fd(), POLLIN, 0};
-      ::poll(&ready, 1, 50);
+      ::poll(&ready, 1, std::min(50, timeout_ms));
       continue;
     }
     const auto& frame = received->frame;

@@ -43,7 +43,7 @@ class CanEndpoint {
 void drain(CanEndpoint& control);
 
 // The kernel receive time (CLOCK_REALTIME ns) of the first 0x121 velocity frame with
-// vx = mm_per_s (the enable handshake's frames aside), within 1 s.
-std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s);
+// vx = mm_per_s (the enable handshake's frames aside), within timeout_ms.
+std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s, int timeout_ms = 1000);
 
 }  // namespace bench

@@ -1,5 +1,6 @@
 #include "fleet_processes.hpp"
 
+#include <signal.h>
 #include <sys/stat.h>
 
 #include <chrono>
@@ -9,13 +10,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench_clock.hpp"
 #include "loopback_tcp.hpp"
 
 namespace bench {
 
 Broker::Broker(const std::string& mosquitto, const std::filesystem::path& directory,
                const std::vector<std::string>& extra_config)
-    : port_(integration::free_loopback_port()) {
+    : mosquitto_(mosquitto), directory_(directory), port_(integration::free_loopback_port()) {
   const auto config = directory / "mosquitto.conf";
   {
     std::ofstream out(config);
@@ -26,8 +28,12 @@ Broker::Broker(const std::string& mosquitto, const std::filesystem::path& direct
         << "log_type error\nlog_type warning\nlog_type notice\n";
     for (const auto& line : extra_config) out << line << "\n";
   }
-  process_ = std::make_unique<ChildProgram>("mosquitto", std::vector<std::string>{mosquitto, "-c", config.string()},
-                                            directory);
+  start();
+}
+
+void Broker::start() {
+  process_ = std::make_unique<ChildProgram>(
+      "mosquitto", std::vector<std::string>{mosquitto_, "-c", (directory_ / "mosquitto.conf").string()}, directory_);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (!integration::loopback_accepts(port_)) {
     if (!process_->running()) throw std::runtime_error("mosquitto ended at start-up:\n" + process_->log_tail());
@@ -35,6 +41,15 @@ Broker::Broker(const std::string& mosquitto, const std::filesystem::path& direct
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
 }
+
+std::int64_t Broker::kill() {
+  const std::int64_t before = realtime_ns();
+  ::kill(process_->pid(), SIGKILL);
+  process_.reset();  // reaps it
+  return before;
+}
+
+void Broker::restart() { start(); }
 
 Robot::Robot(const FleetPrograms& programs, std::filesystem::path directory, std::string name, std::string interface)
     : programs_(programs),
@@ -85,11 +100,20 @@ void Robot::start_bridge(int broker_port) {
       directory_);
 }
 
+void Robot::start_paho_bridge(int broker_port, const std::string& robot) {
+  paho_bridge_ = std::make_unique<ChildProgram>(
+      "paho-bridge",
+      std::vector<std::string>{programs_.python, programs_.paho_bridge, "--socket", socket_.string(), "--broker",
+                               "127.0.0.1:" + std::to_string(broker_port), "--robot", robot},
+      directory_);
+}
+
 std::vector<std::string> Robot::ended() {
   std::vector<std::string> names;
   if (emulator_ && !emulator_->running()) names.push_back(name_ + "'s wheeltec-emu");
   if (daemon_ && !daemon_->running()) names.push_back(name_ + "'s wheeltecd");
   if (bridge_ && !bridge_->running()) names.push_back(name_ + "'s wheeltec-mqtt");
+  if (paho_bridge_ && !paho_bridge_->running()) names.push_back(name_ + "'s paho bridge");
   return names;
 }
 
@@ -98,6 +122,7 @@ std::string Robot::logs() const {
   if (emulator_) text += "--- " + name_ + " wheeltec-emu:\n" + emulator_->log_tail();
   if (daemon_) text += "--- " + name_ + " wheeltecd:\n" + daemon_->log_tail();
   if (bridge_) text += "--- " + name_ + " wheeltec-mqtt:\n" + bridge_->log_tail();
+  if (paho_bridge_) text += "--- " + name_ + " paho bridge:\n" + paho_bridge_->log_tail();
   return text;
 }
 

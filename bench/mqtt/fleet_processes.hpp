@@ -6,6 +6,7 @@
 
 #include <sys/types.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -20,6 +21,8 @@ struct FleetPrograms {
   std::string emulator;
   std::string bridge;
   std::string mosquitto;
+  std::string paho_bridge;  // bench/mqtt/paho_bridge.py, run by python
+  std::string python = "/usr/bin/python3";
 };
 
 class Broker {
@@ -29,11 +32,19 @@ class Broker {
   Broker(const std::string& mosquitto, const std::filesystem::path& directory,
          const std::vector<std::string>& extra_config = {});
   int port() const { return port_; }
+  // SIGKILL, and the broker reaped; returns CLOCK_REALTIME (ns) taken just before kill().
+  std::int64_t kill();
+  // Starts it again on the same port with the same configuration, and waits as at start-up.
+  void restart();
   pid_t pid() const { return process_->pid(); }
   bool running() { return process_->running(); }
   std::string log_tail() const { return process_->log_tail(); }
 
  private:
+  void start();
+
+  std::string mosquitto_;
+  std::filesystem::path directory_;
   int port_;
   std::unique_ptr<ChildProgram> process_;
 };
@@ -44,6 +55,8 @@ class Robot {
   void start_emulator();
   void start_daemon();  // returns once its socket accepts connections
   void start_bridge(int broker_port);
+  // The Python reference bridge on the same daemon, with topics under PREFIX/`robot`.
+  void start_paho_bridge(int broker_port, const std::string& robot);
 
   const std::string& name() const { return name_; }
   const std::string& interface() const { return interface_; }
@@ -51,6 +64,7 @@ class Robot {
   ChildProgram& emulator() { return *emulator_; }
   ChildProgram& daemon() { return *daemon_; }
   ChildProgram& bridge() { return *bridge_; }
+  ChildProgram& paho_bridge() { return *paho_bridge_; }
   // Which of its programs are not running (empty: all are).
   std::vector<std::string> ended();
   std::string logs() const;
@@ -64,6 +78,7 @@ class Robot {
   std::unique_ptr<ChildProgram> emulator_;
   std::unique_ptr<ChildProgram> daemon_;
   std::unique_ptr<ChildProgram> bridge_;
+  std::unique_ptr<ChildProgram> paho_bridge_;
 };
 
 }  // namespace bench

@@ -42,6 +42,7 @@
 
 #include "bench_clock.hpp"
 #include "bench_figures.hpp"
+#include "broker_loss.hpp"
 #include "bus_observer.hpp"
 #include "can_endpoint.hpp"
 #include "fleet_processes.hpp"
@@ -76,13 +77,18 @@ struct Settings {
   bool operator_nodelay = false;            // the benchmark's publisher sets TCP_NODELAY
   std::vector<std::string> broker_config;  // more lines of mosquitto.conf
   std::string strace;                      // given: system calls per record counted (bridge, broker)
+  int loss_rounds = 5;                     // broker kills per bridge
 };
+
+constexpr const char* kPahoRobot = "py1";  // the paho bridge's topics: same daemon as r1, topics of its own
 
 void usage() {
   std::cout << "usage: wheeltec-bench-mqtt --wheeltecd PATH --emulator PATH --bridge PATH [--mosquitto PATH]\n"
                "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
                "       [--drive-interval-ms MS] [--robots 1,2,4,8,16] [--step-seconds S] [--keep-going]\n"
                "       [--operator-nodelay] [--broker-config 'MOSQUITTO.CONF LINE']... [--strace PATH]\n"
+               "       --paho-bridge bench/mqtt/paho_bridge.py [--python /usr/bin/python3] [--loss-rounds N]\n"
+               "The paho bridge (Python, paho-mqtt) drives r1's daemon as robot py1: the reference in the same run.\n"
                "Scaling: the steps of up to 8 robots (--quick: 2) always run; after them, a step that lost records or\n"
                "found the machine 95 % busy is the last (--keep-going: every step).\n"
                "Runs where vcan0..vcanN-1 exist (scripts/vcan-run with VCAN_INTERFACES); see scripts/bench-mqtt.sh.\n";
@@ -102,7 +108,7 @@ std::vector<int> parse_list(const std::string& text) {
 
 Settings parse_arguments(int argc, char** argv) {
   Settings s;
-  bool robots_given = false, step_given = false, telemetry_given = false, drives_given = false;
+  bool robots_given = false, step_given = false, telemetry_given = false, drives_given = false, loss_given = false;
   for (int i = 1; i < argc; ++i) {
     const std::string key = argv[i];
     if (key == "--help" || key == "-h") {
@@ -132,6 +138,9 @@ Settings parse_arguments(int argc, char** argv) {
     else if (key == "--step-seconds") s.step_s = std::stod(value), step_given = true;
     else if (key == "--broker-config") s.broker_config.push_back(value);
     else if (key == "--strace") s.strace = value;
+    else if (key == "--paho-bridge") s.programs.paho_bridge = value;
+    else if (key == "--python") s.programs.python = value;
+    else if (key == "--loss-rounds") s.loss_rounds = std::stoi(value), loss_given = true;
     else throw std::invalid_argument("unknown option " + key);
   }
   if (s.quick) {
@@ -141,9 +150,11 @@ Settings parse_arguments(int argc, char** argv) {
     if (!step_given) s.step_s = 3.0;
     s.drive_block = 20;
     s.run_all_up_to = 2;
+    if (!loss_given) s.loss_rounds = 2;
   }
-  if (s.programs.wheeltecd.empty() || s.programs.emulator.empty() || s.programs.bridge.empty()) {
-    throw std::invalid_argument("--wheeltecd, --emulator and --bridge are required");
+  if (s.programs.wheeltecd.empty() || s.programs.emulator.empty() || s.programs.bridge.empty() ||
+      s.programs.paho_bridge.empty()) {
+    throw std::invalid_argument("--wheeltecd, --emulator, --bridge and --paho-bridge are required");
   }
   if (s.drives < 2 || s.telemetry_s <= 0 || s.step_s <= 0) throw std::invalid_argument("nothing to measure");
   return s;
@@ -289,7 +300,8 @@ struct DriveSeries {
 
 
 struct DriveResults {
-  DriveSeries mqtt, direct;
+  DriveSeries mqtt, direct, paho;
+  double mqtt_cpu_s = 0, paho_cpu_s = 0;  // utime+stime over their own blocks (tick-sampled)
   std::size_t mqtt_error_replies = 0;
   std::vector<std::string> first_errors;
 };
@@ -313,7 +325,9 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
   const std::string stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, robot.name());
   DriveResults results;
   int id = 0;
-  int mm_direct = 100, mm_mqtt = 300;  // each drive a new target: the daemon sends its frame at once
+  int mm_direct = 100, mm_mqtt = 300, mm_paho = 200;  // each drive a new target: the daemon sends its frame at once
+  const std::string paho_drive_topic = fmt::format("{}/{}/cmd/drive", kPrefix, kPahoRobot);
+  const std::string paho_stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, kPahoRobot);
   auto next_mm = [](int& mm, int base) { return mm = base + (mm - base + 1) % 100; };
 
   auto mqtt_drive = [&](bool counted) {
@@ -326,6 +340,25 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
       if (frame) results.mqtt.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
       else ++results.mqtt.missed;
     }
+    publisher.service();
+  };
+  auto paho_drive = [&](bool counted) {
+    const int mm = next_mm(mm_paho, 200);
+    drain(control);
+    const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", mm / 1000.0, ++id);
+    const std::int64_t sent = publisher.publish(paho_drive_topic, payload);
+    const auto frame = wait_for_control_frame(control, mm);
+    if (counted) {
+      if (frame) results.paho.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
+      else ++results.paho.missed;
+    }
+    publisher.service();
+  };
+  // The paho bridge has no replies on MQTT: its stop is seen on the bus.
+  auto paho_stop = [&] {
+    drain(control);
+    publisher.publish(paho_stop_topic, "{}");
+    wait_for_control_frame(control, 0);
     publisher.service();
   };
   auto direct_drive = [&](LineClient& client, bool counted) {
@@ -362,6 +395,8 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
   // Warm-up: the bridge opens the operator's daemon connection on its first drive.
   paced(3, [&] { mqtt_drive(false); });
   mqtt_stop();
+  paced(3, [&] { paho_drive(false); });
+  paho_stop();
   {
     LineClient client(robot.socket());
     paced(3, [&] { direct_drive(client, false); });
@@ -377,8 +412,14 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
       client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
       client.read_line(2000);
     }  // closed: control released
+    double cpu0 = cpu_s(robot.bridge().pid());
     paced(n, [&] { mqtt_drive(true); });
+    results.mqtt_cpu_s += cpu_s(robot.bridge().pid()) - cpu0;
     mqtt_stop();
+    cpu0 = cpu_s(robot.paho_bridge().pid());
+    paced(n, [&] { paho_drive(true); });
+    results.paho_cpu_s += cpu_s(robot.paho_bridge().pid()) - cpu0;
+    paho_stop();
   }
   receipts.absorb();
   for (const auto& result : receipts.results()) {
@@ -412,6 +453,7 @@ void grow_fleet(const Settings& settings, Fleet& fleet, std::size_t count, const
   for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_emulator();
   for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_daemon();
   for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_bridge(fleet.broker->port());
+  if (first == 0) fleet.robots[0]->start_paho_bridge(fleet.broker->port(), kPahoRobot);
   for (std::size_t i = first; i < count; ++i) {
     auto& robot = *fleet.robots[i];
     if (!receipts.wait_for_telemetry(robot.name(), std::chrono::seconds(30))) {
@@ -531,12 +573,42 @@ int measure(const Settings& settings, const fs::path& work) {
   const TelemetryMatch while_driving =
       match_records(observer.record_frames(0), pairs_of(receipts.robot(r1.name()).telemetry), d0, d1);
   telemetry["via_mqtt_while_driving"] = match_json(while_driving, true);
+  const auto p50_of = [](const DriveSeries& series) { return summarize(series.latency_us).p50_us; };
+  const auto per_drive_us = [](double cpu_s, const DriveSeries& series) {
+    const auto n = series.latency_us.size() + static_cast<std::size_t>(series.missed);
+    return n == 0 ? 0.0 : cpu_s / static_cast<double>(n) * 1e6;
+  };
   json drive_json = {{"via_mqtt", drives.mqtt.to_json()},
+                     {"via_paho_bridge", drives.paho.to_json()},
                      {"direct_wheeltecd", drives.direct.to_json()},
+                     // what each bridge adds at p50: broker -> bus minus the daemon's socket -> bus
+                     {"added_p50_us",
+                      {{"wheeltec_mqtt", p50_of(drives.mqtt) - p50_of(drives.direct)},
+                       {"paho_bridge", p50_of(drives.paho) - p50_of(drives.direct)}}},
+                     {"cpu_us_per_drive",
+                      {{"wheeltec_mqtt", per_drive_us(drives.mqtt_cpu_s, drives.mqtt)},
+                       {"paho_bridge", per_drive_us(drives.paho_cpu_s, drives.paho)}}},
                      {"mqtt_error_replies", drives.mqtt_error_replies},
                      {"first_errors", drives.first_errors}};
   if (drives.mqtt.latency_us.empty()) errors.push_back("no drive over MQTT reached the bus");
   if (drives.direct.latency_us.empty()) errors.push_back("no drive on the daemon's socket reached the bus");
+  if (drives.paho.latency_us.empty()) errors.push_back("no drive through the paho bridge reached the bus");
+
+  // ---- broker loss -> zero frame, each bridge in turn ----
+  std::cerr << "wheeltec-bench-mqtt: broker loss, " << settings.loss_rounds << " kills per bridge\n";
+  const std::vector<BridgeUnderTest> under_test{
+      {"wheeltec-mqtt", fmt::format("{}/{}/cmd/drive", kPrefix, r1.name()), r1.bridge().pid()},
+      {"paho bridge", fmt::format("{}/{}/cmd/drive", kPrefix, kPahoRobot), r1.paho_bridge().pid()}};
+  const std::vector<LossSeries> losses =
+      measure_broker_loss(*fleet.broker, r1.interface(), under_test, settings.loss_rounds);
+  const json loss_json = {{"wheeltec_mqtt", losses[0].to_json()}, {"paho_bridge", losses[1].to_json()}};
+  for (std::size_t i = 0; i < losses.size(); ++i) {
+    if (losses[i].ms.empty()) errors.push_back("broker loss: no zero frame timed for " + under_test[i].name);
+  }
+  for (auto& name : r1.ended()) errors.push_back("after the broker kills: " + name + " ended");
+  // The subscriber reconnects by itself (libmosquitto's loop thread, 1 s) before the scaling steps.
+  for (int i = 0; i < 100 && !subscriber.connected(); ++i) receipts.wait(100);
+  receipts.wait(1500);
 
   // ---- scaling: N robots, one subscriber of PREFIX/+/telemetry ----
   json steps = json::array();
@@ -668,6 +740,7 @@ int measure(const Settings& settings, const fs::path& work) {
   out["cpu_per_record"] = cpu;
   if (!syscalls.is_null()) out["syscalls_per_record"] = syscalls;
   out["drives"] = drive_json;
+  out["broker_loss"] = loss_json;
   out["scaling"] = steps;
   out["errors"] = errors;
   out["load_average_at_end"] = load_average();
@@ -679,6 +752,9 @@ int measure(const Settings& settings, const fs::path& work) {
   std::cout << "| drive published on the broker -> first 0x121 frame with its velocity | "
             << p50_p99(drive_json["via_mqtt"]) << " | " << drive_json["via_mqtt"]["count"] << " | "
             << drives.mqtt.missed << " |\n";
+  std::cout << "| drive published on the broker -> first 0x121 frame, through the paho-mqtt bridge (Python) | "
+            << p50_p99(drive_json["via_paho_bridge"]) << " | " << drive_json["via_paho_bridge"]["count"] << " | "
+            << drives.paho.missed << " |\n";
   std::cout << "| reference: drive written on wheeltecd's socket -> frame (same blocks, alternating) | "
             << p50_p99(drive_json["direct_wheeltecd"]) << " | " << drive_json["direct_wheeltecd"]["count"] << " | "
             << drives.direct.missed << " |\n";
@@ -693,6 +769,28 @@ int measure(const Settings& settings, const fs::path& work) {
             << " drives/s) | " << p50_p99(telemetry["via_mqtt_while_driving"]) << " | "
             << telemetry["via_mqtt_while_driving"]["count"] << " | " << while_driving.lost() << " of "
             << while_driving.on_bus << " |\n\n";
+  {
+    const double added_mqtt = drive_json["added_p50_us"]["wheeltec_mqtt"].get<double>();
+    const double added_paho = drive_json["added_p50_us"]["paho_bridge"].get<double>();
+    std::cout << fmt::format(
+        "| drives, wheeltec-mqtt against the paho bridge (same daemon, same broker, alternating blocks) | wheeltec-mqtt | "
+        "paho bridge |\n|---|---|---|\n"
+        "| added at p50: broker -> bus minus the daemon's socket -> bus (us) | {:.0f} | {:.0f} |\n"
+        "| wheeltec-mqtt's added / the paho bridge's | {:.2f} | |\n"
+        "| CPU per drive over its blocks (utime+stime, tick-sampled; wheeltec-mqtt's includes its telemetry) (us) | "
+        "{:.0f} | {:.0f} |\n",
+        added_mqtt, added_paho, added_paho > 0 ? added_mqtt / added_paho : 0.0,
+        drive_json["cpu_us_per_drive"]["wheeltec_mqtt"].get<double>(),
+        drive_json["cpu_us_per_drive"]["paho_bridge"].get<double>());
+    auto loss_cell = [](const json& series) {
+      std::string rounds;
+      for (const auto& value : series["rounds_ms"]) rounds += fmt::format("{}{:.1f}", rounds.empty() ? "" : ", ", value.get<double>());
+      return fmt::format("{:.1f} / {:.1f} ({}; {} missed)", series["p50_us"].get<double>() / 1e3,
+                         series["max_us"].get<double>() / 1e3, rounds, series["missed"].get<int>());
+    };
+    std::cout << "| broker SIGKILLed while driving -> first zero 0x121 frame, ms: p50 / max (each round) | "
+              << loss_cell(loss_json["wheeltec_mqtt"]) << " | " << loss_cell(loss_json["paho_bridge"]) << " |\n\n";
+  }
   std::cout << fmt::format(
       "| CPU per record, {:.0f} s at 20 Hz, {} records (utime+stime, tick-sampled) | us |\n|---|---|\n"
       "| wheeltec-mqtt | {:.0f} |\n| wheeltecd | {:.0f} |\n| mosquitto | {:.0f} |\n| wheeltec-emu | {:.0f} |\n"

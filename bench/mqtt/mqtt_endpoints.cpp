@@ -24,25 +24,18 @@ constexpr int kKeepaliveS = 60;
 }  // namespace
 
 MqttSubscriber::MqttSubscriber(const std::string& host, int port, const std::string& client_id,
-                               const std::vector<std::string>& filters) {
+                               const std::vector<std::string>& filters)
+    : filters_(filters) {
   library_init();
   mosq_ = mosquitto_new(client_id.c_str(), true, this);
   if (mosq_ == nullptr) throw std::runtime_error("mosquitto_new failed");
   mosquitto_message_callback_set(mosq_, &MqttSubscriber::on_message);
   mosquitto_subscribe_callback_set(mosq_, &MqttSubscriber::on_subscribe);
   mosquitto_disconnect_callback_set(mosq_, &MqttSubscriber::on_disconnect);
+  mosquitto_connect_callback_set(mosq_, &MqttSubscriber::on_connect);
   if (const int rc = mosquitto_connect(mosq_, host.c_str(), port, kKeepaliveS); rc != MOSQ_ERR_SUCCESS) {
     mosquitto_destroy(mosq_);
     throw mqtt_error("subscriber: connect to " + host + ":" + std::to_string(port), rc);
-  }
-  connected_ = true;
-  std::vector<char*> topics;
-  for (const auto& filter : filters) topics.push_back(const_cast<char*>(filter.c_str()));
-  if (const int rc = mosquitto_subscribe_multiple(mosq_, nullptr, static_cast<int>(topics.size()), topics.data(), 0, 0,
-                                                  nullptr);
-      rc != MOSQ_ERR_SUCCESS) {
-    mosquitto_destroy(mosq_);
-    throw mqtt_error("subscriber: subscribe", rc);
   }
   if (const int rc = mosquitto_loop_start(mosq_); rc != MOSQ_ERR_SUCCESS) {
     mosquitto_destroy(mosq_);
@@ -81,6 +74,19 @@ void MqttSubscriber::on_message(mosquitto*, void* self, const mosquitto_message*
   }
   std::lock_guard lock(subscriber.mutex_);
   subscriber.messages_.push_back(std::move(kept));
+}
+
+// Subscribes on every connection: the loop thread reconnects after a broker restart (clean sessions).
+void MqttSubscriber::on_connect(mosquitto* mosq, void* self, int rc) {
+  if (rc != 0) return;
+  auto& subscriber = *static_cast<MqttSubscriber*>(self);
+  {
+    std::lock_guard lock(subscriber.mutex_);
+    subscriber.connected_ = true;
+  }
+  std::vector<char*> topics;
+  for (const auto& filter : subscriber.filters_) topics.push_back(const_cast<char*>(filter.c_str()));
+  mosquitto_subscribe_multiple(mosq, nullptr, static_cast<int>(topics.size()), topics.data(), 0, 0, nullptr);
 }
 
 void MqttSubscriber::on_subscribe(mosquitto*, void* self, int, int, const int*) {

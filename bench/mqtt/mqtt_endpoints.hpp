@@ -28,7 +28,8 @@ class MqttSubscriber {
     std::int64_t received_ns = 0;  // CLOCK_REALTIME when the message callback ran
   };
 
-  // Connects to host:port, subscribes to `filters` (QoS 0) and waits for the SUBACK.
+  // Connects to host:port, subscribes to `filters` (QoS 0) and waits for the SUBACK; after a
+  // loss, the loop thread reconnects and subscribes again.
   MqttSubscriber(const std::string& host, int port, const std::string& client_id, const std::vector<std::string>& filters);
   ~MqttSubscriber();
   MqttSubscriber(const MqttSubscriber&) = delete;
@@ -43,7 +44,9 @@ class MqttSubscriber {
   static void on_message(mosquitto*, void* self, const mosquitto_message* message);
   static void on_subscribe(mosquitto*, void* self, int mid, int count, const int* granted);
   static void on_disconnect(mosquitto*, void* self, int rc);
+  static void on_connect(mosquitto*, void* self, int rc);
 
+  std::vector<std::string> filters_;
   mosquitto* mosq_ = nullptr;
   mutable std::mutex mutex_;
   std::vector<Message> messages_;

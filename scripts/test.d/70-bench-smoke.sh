@@ -67,7 +67,8 @@ print(f"bench smoke: serial benchmark ran ({drives} drives and {records} records
 PY
 
 # The wheeltec-mqtt benchmark's quick mode (about 30 s): one robot's latencies and CPU per
-# record, then 1 and 2 robots against one broker. Every figure must be there; none is compared.
+# record, next to the paho-mqtt bridge's drives and broker losses, then 1 and 2 robots against one
+# broker. Every figure must be there; none is compared.
 if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$mqtt_out "$REPO_ROOT/scripts/bench-mqtt.sh" --quick >"$mqtt_out/output.txt" 2>&1; then
   cat "$mqtt_out/output.txt" >&2
   echo "bench smoke: scripts/bench-mqtt.sh --quick failed" >&2
@@ -83,6 +84,9 @@ problems = list(m.get("errors", []))
 figures = {
     "drives over MQTT": m["drives"]["via_mqtt"]["count"],
     "drives on the daemon's socket": m["drives"]["direct_wheeltecd"]["count"],
+    "drives through the paho bridge": m["drives"]["via_paho_bridge"]["count"],
+    "broker losses timed for wheeltec-mqtt": len(m["broker_loss"]["wheeltec_mqtt"]["rounds_ms"]),
+    "broker losses timed for the paho bridge": len(m["broker_loss"]["paho_bridge"]["rounds_ms"]),
     "telemetry records matched at the MQTT subscriber": m["telemetry"]["via_mqtt"]["count"],
     "telemetry records matched at the direct subscriber": m["telemetry"]["direct_wheeltecd_subscriber"]["count"],
     "records published in the CPU window": m["cpu_per_record"]["records_published"],
@@ -90,6 +94,7 @@ figures = {
 }
 problems += [f"no {name}" for name, value in figures.items() if not value]
 problems += [f"{s['robots']} robots: nothing delivered" for s in m["scaling"] if not s["delivered"]]
+problems += [f"no {k} in drives" for k in ("added_p50_us", "cpu_us_per_drive") if k not in m["drives"]]
 if problems:
     sys.exit("bench smoke: wheeltec-mqtt benchmark: " + "; ".join(problems))
 print(f"bench smoke: wheeltec-mqtt benchmark ran ({m['elapsed_s']:.0f} s inside the VM; "
