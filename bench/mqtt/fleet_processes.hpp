@@ -20,7 +20,7 @@ struct FleetPrograms {
   std::string wheeltecd;
   std::string emulator;
   std::string bridge;
-  std::string mosquitto;
+  std::string mosquitto = "/usr/sbin/mosquitto";
   std::string paho_bridge;  // bench/mqtt/paho_bridge.py, run by python
   std::string python = "/usr/bin/python3";
 };

@@ -62,7 +62,7 @@ constexpr double kTelemetryHz = 20.0;  // the emulator's (and the stock firmware
 constexpr const char* kPrefix = "wheeltec";
 
 struct Settings {
-  FleetPrograms programs{"", "", "", "/usr/sbin/mosquitto"};
+  FleetPrograms programs;
   std::string json_path;
   std::string work_dir;  // default: a new directory in /tmp, removed at the end
   double telemetry_s = 20.0;
@@ -330,30 +330,21 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
   const std::string paho_stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, kPahoRobot);
   auto next_mm = [](int& mm, int base) { return mm = base + (mm - base + 1) % 100; };
 
-  auto mqtt_drive = [&](bool counted) {
-    const int mm = next_mm(mm_mqtt, 300);
+  // A drive published on a bridge's topic, timed to its frame on the bus.
+  auto drive_through = [&](const std::string& topic, int& mm, int base, DriveSeries& series, bool counted) {
+    next_mm(mm, base);
     drain(control);
     const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", mm / 1000.0, ++id);
-    const std::int64_t sent = publisher.publish(drive_topic, payload);
+    const std::int64_t sent = publisher.publish(topic, payload);
     const auto frame = wait_for_control_frame(control, mm);
     if (counted) {
-      if (frame) results.mqtt.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
-      else ++results.mqtt.missed;
+      if (frame) series.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
+      else ++series.missed;
     }
     publisher.service();
   };
-  auto paho_drive = [&](bool counted) {
-    const int mm = next_mm(mm_paho, 200);
-    drain(control);
-    const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", mm / 1000.0, ++id);
-    const std::int64_t sent = publisher.publish(paho_drive_topic, payload);
-    const auto frame = wait_for_control_frame(control, mm);
-    if (counted) {
-      if (frame) results.paho.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
-      else ++results.paho.missed;
-    }
-    publisher.service();
-  };
+  auto mqtt_drive = [&](bool counted) { drive_through(drive_topic, mm_mqtt, 300, results.mqtt, counted); };
+  auto paho_drive = [&](bool counted) { drive_through(paho_drive_topic, mm_paho, 200, results.paho, counted); };
   // The paho bridge has no replies on MQTT: its stop is seen on the bus.
   auto paho_stop = [&] {
     drain(control);
