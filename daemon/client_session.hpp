@@ -35,7 +35,8 @@
 namespace wheeltec::daemon {
 
 inline constexpr std::size_t kLinesPerTurn = 32;
-inline constexpr std::size_t kReadChunkBytes = 16 * 1024;
+// Requests are lines of well under 1 KiB; a longer line is read in several chunks.
+inline constexpr std::size_t kReadChunkBytes = 4 * 1024;
 
 class ClientSession : public std::enable_shared_from_this<ClientSession>, private SessionWriter::Owner {
  public:
@@ -107,7 +108,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession>, privat
 
   Phase phase_ = Phase::open;
   Input input_ = Input::idle;
-  std::array<char, kReadChunkBytes> read_chunk_{};
+  std::array<char, kReadChunkBytes> read_chunk_;  // not zeroed: only the bytes read are used
   LineFramer framer_;
   SessionWriter writer_;
 };
