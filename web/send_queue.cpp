@@ -23,8 +23,7 @@ SendQueue::Push SendQueue::push(OutgoingMessage message, Clock::time_point now) 
   return result;
 }
 
-std::optional<OutgoingMessage> SendQueue::pop(Clock::time_point now) {
-  (void)now;
+std::optional<OutgoingMessage> SendQueue::pop() {
   if (queue_.empty()) return std::nullopt;
   OutgoingMessage message = std::move(queue_.front());
   queue_.pop_front();

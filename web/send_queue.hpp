@@ -39,9 +39,14 @@ class SendQueue {
 
   explicit SendQueue(Limits limits) : limits_(limits) {}
 
+  // `now` matters only when the queue is timing(): otherwise any time_point will do.
   Push push(OutgoingMessage message, Clock::time_point now);
   // The next message to write; the writer owns it from here.
-  std::optional<OutgoingMessage> pop(Clock::time_point now);
+  std::optional<OutgoingMessage> pop();
+
+  // At the telemetry limit, or stalled there: a push may drop and start the stall's
+  // clock, so its time matters. A caller may skip reading the clock otherwise.
+  bool timing() const { return droppable_ >= limits_.droppable || full_since_.has_value(); }
 
   // Telemetry has been waiting at the limit for longer than Limits::stall.
   bool stalled(Clock::time_point now) const;

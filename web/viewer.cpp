@@ -211,7 +211,8 @@ void Viewer::send_status(foxglove::Level level, std::string_view message, std::s
 }
 
 void Viewer::enqueue(OutgoingMessage message) {
-  const auto now = SendQueue::Clock::now();
+  // The clock is a system call in some virtual machines: read only when the queue's rule needs it.
+  const auto now = queue_.timing() ? SendQueue::Clock::now() : SendQueue::Clock::time_point{};
   switch (queue_.push(std::move(message), now)) {
     case SendQueue::Push::overflow:
       return close("does not read: too many status and control messages waiting");
@@ -235,7 +236,7 @@ void Viewer::enqueue(OutgoingMessage message) {
 }
 
 void Viewer::write_next() {
-  auto next = queue_.pop(SendQueue::Clock::now());
+  auto next = queue_.pop();
   if (!next || closed_) {
     writing_ = false;
     return;

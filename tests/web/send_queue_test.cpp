@@ -21,7 +21,7 @@ TEST(SendQueue, DropsTheOldestTelemetryFirstAndSaysSoOnce) {
   EXPECT_EQ(queue.push(telemetry("t4"), now), SendQueue::Push::dropped_oldest);
   EXPECT_EQ(queue.dropped(), 2u);
   std::vector<std::string> order;
-  while (auto message = queue.pop(now)) order.push_back(message->data);
+  while (auto message = queue.pop()) order.push_back(message->data);
   EXPECT_EQ(order, (std::vector<std::string>{"c1", "t3", "t4"}));
 }
 
@@ -37,13 +37,16 @@ TEST(SendQueue, NeverDropsControlMessagesButOverflowsBeyondTheHardLimit) {
 TEST(SendQueue, StalledWhenFullWithoutProgressForTheStallTime) {
   SendQueue queue({1, 10, 1000ms});
   const auto start = Clock::now();
+  EXPECT_FALSE(queue.timing());
   queue.push(telemetry("a"), start);
+  EXPECT_TRUE(queue.timing());               // at the limit: the next push drops
   EXPECT_FALSE(queue.stalled(start + 10s));  // never full
   queue.push(telemetry("b"), start);         // full: drops a
   EXPECT_FALSE(queue.stalled(start + 999ms));
   EXPECT_TRUE(queue.stalled(start + 1000ms));
-  queue.pop(start + 1500ms);  // the viewer took one: progress
+  queue.pop();  // the viewer took one: progress
   EXPECT_FALSE(queue.stalled(start + 1600ms));
+  EXPECT_FALSE(queue.timing());
   queue.push(telemetry("c"), start + 2s);
   queue.push(telemetry("d"), start + 2s);
   EXPECT_TRUE(queue.stalled(start + 3s));
