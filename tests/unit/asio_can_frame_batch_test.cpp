@@ -19,7 +19,8 @@ class FrameBatch : public ::testing::Test {
   void SetUp() override {
     ASSERT_EQ(::socketpair(AF_UNIX, SOCK_SEQPACKET, 0, fds_), 0);
     const int on = 1;
-    ASSERT_EQ(::setsockopt(fds_[1], SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on)), 0);
+    // qemu-user (the arm64 stage) does not translate SO_TIMESTAMPNS: no times there.
+    timestamps_ = ::setsockopt(fds_[1], SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on)) == 0;
   }
   void TearDown() override {
     ::close(fds_[0]);
@@ -37,14 +38,15 @@ class FrameBatch : public ::testing::Test {
 
   int reader() const { return fds_[1]; }
   int writer() const { return fds_[0]; }
+  bool timestamps() const { return timestamps_; }
 
  private:
   int fds_[2] = {-1, -1};
+  bool timestamps_ = false;
 };
 
-TEST_F(FrameBatch, ReadsEveryQueuedFrameInOrderWithItsReceiveTime) {
+TEST_F(FrameBatch, ReadsEveryQueuedFrameInOrder) {
   frame_batch<8> batch;
-  const auto before = std::chrono::system_clock::now();
   for (std::uint32_t id : {0x101u, 0x102u, 0x103u}) send_frame_with_id(id);
   boost::system::error_code ec;
   const auto frames = batch.receive(reader(), ec);
@@ -54,6 +56,16 @@ TEST_F(FrameBatch, ReadsEveryQueuedFrameInOrderWithItsReceiveTime) {
   EXPECT_EQ(frames[1].frame.id, 0x102u);
   EXPECT_EQ(frames[2].frame.id, 0x103u);
   EXPECT_EQ(frames[2].frame.data[0], 0x03);
+}
+
+TEST_F(FrameBatch, GivesEachFrameItsReceiveTime) {
+  if (!timestamps()) GTEST_SKIP() << "SO_TIMESTAMPNS is not available here (qemu-user)";
+  frame_batch<8> batch;
+  const auto before = std::chrono::system_clock::now();
+  for (std::uint32_t id : {0x101u, 0x102u}) send_frame_with_id(id);
+  boost::system::error_code ec;
+  const auto frames = batch.receive(reader(), ec);
+  ASSERT_EQ(frames.size(), 2u);
   for (const auto& received : frames) {
     EXPECT_GE(received.time, std::chrono::time_point_cast<std::chrono::nanoseconds>(before) - std::chrono::seconds(1));
     EXPECT_LE(received.time, std::chrono::system_clock::now());
