@@ -4,13 +4,11 @@
 #include <net/if.h>
 #include <poll.h>
 
-#include <algorithm>
-#include <chrono>
-#include <iterator>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -18,6 +16,7 @@
 #include <vector>
 
 #include "bench_clock.hpp"
+#include "wheeltec/control_frame.hpp"
 
 namespace bench {
 
@@ -99,15 +98,6 @@ void drain(CanEndpoint& control) {
   }
 }
 
-namespace {
-
-bool has_enable_prefix(const wheeltec::CanFrame& frame) {
-  static constexpr std::uint8_t prefix[] = {0x0A, 0x0C, 0x0F, 0x13, 0x18, 0x1E, 0x25};
-  return std::equal(std::begin(prefix), std::end(prefix), frame.data.begin());
-}
-
-}  // namespace
-
 std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_per_s, int timeout_ms) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   while (std::chrono::steady_clock::now() < deadline) {
@@ -118,10 +108,8 @@ std::optional<std::int64_t> wait_for_control_frame(CanEndpoint& control, int mm_
       ::poll(&ready, 1, std::min(50, timeout_ms));
       continue;
     }
-    const auto& frame = received->frame;
-    if (frame.id != 0x121 || frame.dlc != 8 || has_enable_prefix(frame)) continue;
-    const int x = static_cast<std::int16_t>((frame.data[0] << 8) | frame.data[1]);
-    if (x == mm_per_s) return received->time.time_since_epoch().count();
+    const auto command = wheeltec::decode_control_frame(wheeltec::Dialect::manual, received->frame);
+    if (command && command->x == mm_per_s) return received->time.time_since_epoch().count();
   }
   return std::nullopt;
 }
