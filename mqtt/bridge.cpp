@@ -33,7 +33,7 @@ Bridge::Bridge(boost::asio::io_context& io, BridgeConfig config)
   mqtt_.on_message([this](const MqttMessage& message) { handle_message(message); });
   mqtt_.on_drained([this] { flush_backlog(); });
   mqtt_.subscribe(topics_.command_filter(), 1);
-  daemon_.on_telemetry([this](const client::Telemetry& record) { handle_telemetry(record); });
+  daemon_.on_telemetry_text([this](std::string_view record) { handle_telemetry(record); });
   daemon_.on_status([this](const client::Status& status) { handle_status(status.json); });
   daemon_.on_up([this] { daemon_up(); });
   daemon_.on_down([this](const client::Subscription::Outage& outage) { daemon_down(outage); });
@@ -66,19 +66,19 @@ void Bridge::daemon_down(const client::Subscription::Outage& outage) {
   spdlog::debug("reconnecting to wheeltecd in {} ms", outage.retry_in.count());
 }
 
-void Bridge::handle_telemetry(const client::Telemetry& record) {
-  if (!telemetry_rate_.admit(SteadyClock::now())) {
+// The record is published as the daemon wrote it, not parsed and written again.
+void Bridge::handle_telemetry(std::string_view record) {
+  if (telemetry_rate_.limits() && !telemetry_rate_.admit(SteadyClock::now())) {
     ++counters_.telemetry_rate_limited;
     return;
   }
-  std::string payload = record.json.dump();
   if (backlog_.empty() && mqtt_.connected() && !mqtt_.congested()) {
-    if (mqtt_.publish(topics_.telemetry(), payload, 0, false)) {
+    if (mqtt_.publish(topics_.telemetry(), record, 0, false)) {
       ++counters_.telemetry_published;
       return;
     }
   }
-  backlog_.push(std::move(payload));
+  backlog_.push(std::string(record));
 }
 
 void Bridge::handle_status(const Json& status) {
@@ -96,8 +96,7 @@ void Bridge::broker_connected() {
 }
 
 void Bridge::broker_lost(const std::string& reason) {
-  // Nobody remote can see or steer the robot now.
-  spdlog::warn("broker lost ({}): stopping the robot", reason);
+  // Nobody remote can see or steer the robot now. The stop is written before anything is logged.
   ++counters_.stops_on_broker_loss;
   if (daemon_.up()) {
     daemon_.async_call("stop", nullptr, [](boost::system::error_code ec, const Json&) {
@@ -105,6 +104,7 @@ void Bridge::broker_lost(const std::string& reason) {
     });
   }
   operators_.close_all();
+  spdlog::warn("broker lost ({}): stopping the robot", reason);
 }
 
 void Bridge::flush_backlog() {

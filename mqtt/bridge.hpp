@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
@@ -55,7 +56,7 @@ class Bridge {
 
   void daemon_up();
   void daemon_down(const client::Subscription::Outage& outage);
-  void handle_telemetry(const client::Telemetry& record);
+  void handle_telemetry(std::string_view record);
   void handle_status(const client::Json& status);
 
   void broker_connected();

@@ -124,6 +124,10 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
     if (phase_ != Phase::connected) return false;
     const int rc = mosquitto_publish_v5(mosq_, nullptr, topic.c_str(), static_cast<int>(payload.size()),
                                         payload.data(), qos, retain, properties);
+    if (broken_socket(rc)) {
+      finish_broken_connection();
+      return false;
+    }
     if (rc != MOSQ_ERR_SUCCESS) spdlog::debug("publish on {} failed: {}", topic, error_text(rc));
     watch_writes();
     return rc == MOSQ_ERR_SUCCESS;
@@ -256,19 +260,40 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
     if (rc != MOSQ_ERR_SUCCESS) spdlog::error("cannot subscribe {}: {}", subscription.filter, error_text(rc));
   }
 
+  // A publish wrote at once and found the broker gone (a killed broker's socket answers
+  // EPIPE; a telemetry record usually finds out before any read does). libmosquitto neither
+  // closes the socket nor reports the loss from a publish.
+  static bool broken_socket(int rc) {
+    return rc == MOSQ_ERR_CONN_LOST || (rc == MOSQ_ERR_ERRNO && (errno == EPIPE || errno == ECONNRESET));
+  }
+
+  // libmosquitto's own write, run next, meets the same error, closes its socket and reports
+  // the loss, without waiting for Asio to see the socket writable. Posted: the publish may
+  // run inside a handler (an operator's reply) that the loss handling closes.
+  void finish_broken_connection() {
+    boost::asio::post(descriptor_.get_executor(), [self = shared_from_this(), generation = generation_] {
+      if (generation != self->generation_ || !self->live()) return;
+      self->check_socket(mosquitto_loop_write(self->mosq_, 1));
+    });
+  }
+
   // Idempotent: libmosquitto reports a loss through its callback, and the loop calls notice it too.
+  // The lost handler (the robot's stop) runs first: the bookkeeping and the log lines after it
+  // are system calls, each 0.1 ms or more in User-Mode Linux, that the stop need not wait for.
   void connection_lost(const std::string& reason) {
-    if (phase_ != Phase::connecting && phase_ != Phase::connected) return;
+    if (!live()) return;
     const bool was_connected = phase_ == Phase::connected;
-    release_descriptor();
+    phase_ = Phase::waiting;  // nothing more is published on this connection
     const std::string why = refusal_.empty() ? reason : "refused: " + refusal_;
     refusal_.clear();
     if (was_connected) {
       ++losses_;
+      if (lost_handler_) lost_handler_(why);
+      if (phase_ == Phase::stopped) return;  // the handler stopped the client
       spdlog::warn("lost the broker {}:{}: {}", broker_.host, broker_.port, why);
     }
+    release_descriptor();
     fail_attempt(fmt::format("no connection to the broker {}:{}: {}", broker_.host, broker_.port, why));
-    if (was_connected && lost_handler_) lost_handler_(why);
   }
 
   void deliver(const mosquitto_message& message, const mosquitto_property* properties) {

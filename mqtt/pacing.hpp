@@ -20,6 +20,9 @@ class RateLimit {
       : interval_(max_hz > 0 ? std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(1.0 / max_hz))
                              : SteadyClock::duration::zero()) {}
 
+  // False for 0 Hz: every record is admitted, and the caller need not read the clock.
+  bool limits() const { return interval_ != SteadyClock::duration::zero(); }
+
   bool admit(SteadyClock::time_point now) {
     if (started_ && now < next_) return false;
     next_ = started_ ? std::max(next_ + interval_, now + interval_ / 2) : now + interval_;

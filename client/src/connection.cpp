@@ -63,8 +63,9 @@ class Connection::State : public std::enable_shared_from_this<State> {
     const std::uint64_t id = next_id_++;
     Json request = {{"jsonrpc", "2.0"}, {"id", id}, {"method", method}};
     if (!params.is_null()) request["params"] = std::move(params);
-    pending_.emplace(id, Pending{std::move(handler), std::chrono::steady_clock::now() + kReplyTimeout});
     send(request.dump() + "\n");
+    // The clock is read after the request is written: in User-Mode Linux that is a system call.
+    pending_.emplace(id, Pending{std::move(handler), std::chrono::steady_clock::now() + kReplyTimeout});
     arm_reply_timer();
   }
 

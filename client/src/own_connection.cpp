@@ -21,10 +21,13 @@ void OwnConnection::call(const std::string& method, Json params, Handler handler
 }
 
 void OwnConnection::drive(const Velocity& velocity, Handler handler) {
-  last_used_ = Clock::now();
   waiting_drive_ = Request{"drive", to_json(velocity), std::move(handler)};
-  if (!is_open()) return connect();
-  if (!drive_in_flight_) send_drive();
+  if (!is_open()) {
+    connect();
+  } else if (!drive_in_flight_) {
+    send_drive();
+  }
+  last_used_ = Clock::now();  // after the drive is written, as Connection reads its clock
 }
 
 void OwnConnection::connect() {

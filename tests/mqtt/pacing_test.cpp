@@ -36,8 +36,14 @@ TEST(MqttBacklog, CapacityZeroKeepsNothing) {
 
 TEST(MqttRateLimit, ZeroMeansEveryRecord) {
   RateLimit limit(0);
+  EXPECT_FALSE(limit.limits());
   const auto start = SteadyClock::time_point{};
   for (int i = 0; i < 10; ++i) EXPECT_TRUE(limit.admit(start));
+}
+
+TEST(MqttRateLimit, AnyRateLimits) {
+  EXPECT_TRUE(RateLimit(10).limits());
+  EXPECT_TRUE(RateLimit(0.001).limits());
 }
 
 TEST(MqttRateLimit, HoldsTheAverageRateDespiteJitter) {
