@@ -10,7 +10,10 @@
 #   (--no-browser leaves 3 out.)
 # Telemetry at 50 Hz for 20 s per run; --quick: 5 s, to check that it works.
 #
-#   scripts/bench-web.sh [--quick] [--no-browser]
+#   scripts/bench-web.sh [--quick] [--no-browser] [--viewers N]
+#
+# --viewers N: N Foxglove clients instead of 8 (1: what one viewer sees, with no other
+# viewer's send before its own).
 #
 # BUILD_DIR (default build/) must hold wheeltec-emu, wheeltecd and wheeltec-web; npm's
 # Foxglove client is installed into BUILD_DIR/tests/web/node from tests/web/package-lock.json
@@ -22,13 +25,19 @@ BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
 BENCH_OUT=${BENCH_OUT:-$BUILD_DIR/bench-results}
 seconds=20
 browser=
-for argument in "$@"; do
-  case $argument in
+viewers=8
+while (($#)); do
+  case $1 in
     --quick) seconds=5 ;;
     --no-browser) browser=--no-browser ;;  # the Foxglove rounds only (Chromium in a loaded VM takes minutes)
-    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
-    *) echo "bench-web.sh: unknown argument $argument" >&2; exit 2 ;;
+    --viewers)
+      [[ ${2:-} =~ ^[1-9][0-9]*$ ]] || { echo "bench-web.sh: --viewers needs a number of 1 or more" >&2; exit 2; }
+      viewers=$2
+      shift ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    *) echo "bench-web.sh: unknown argument $1" >&2; exit 2 ;;
   esac
+  shift
 done
 
 for program in emulator/wheeltec-emu daemon/wheeltecd web/wheeltec-web; do
@@ -44,10 +53,10 @@ mkdir -p "$BENCH_OUT"
 
 started=$SECONDS
 status=0
-"$REPO_ROOT/scripts/vcan-run" -- "$REPO_ROOT/bench/web/session.sh" "$BUILD_DIR" "$node_dir/node_modules" 50 "$seconds" $browser \
+"$REPO_ROOT/scripts/vcan-run" -- "$REPO_ROOT/bench/web/session.sh" "$BUILD_DIR" "$node_dir/node_modules" 50 "$seconds" "$viewers" $browser \
   >"$BENCH_OUT/web-run.txt" || status=$?
 {
-  echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs, load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s including the virtual machine's boot; telemetry at 50 Hz, ${seconds} s per run."
+  echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs, load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s including the virtual machine's boot; telemetry at 50 Hz, ${seconds} s per run, $viewers Foxglove clients."
   echo
   grep -v '^{' "$BENCH_OUT/web-run.txt" || true
 } >"$BENCH_OUT/web-table.md"

@@ -80,7 +80,8 @@ struct Settings {
   int loss_rounds = 5;                     // broker kills per bridge
 };
 
-constexpr const char* kPahoRobot = "py1";  // the paho bridge's topics: same daemon as r1, topics of its own
+constexpr const char* kPahoRobot = "py1";
+constexpr const char* kHopTopic = "wheeltec-bench/hop";  // the paho bridge's topics: same daemon as r1, topics of its own
 
 void usage() {
   std::cout << "usage: wheeltec-bench-mqtt --wheeltecd PATH --emulator PATH --bridge PATH [--mosquitto PATH]\n"
@@ -301,6 +302,7 @@ struct DriveSeries {
 
 struct DriveResults {
   DriveSeries mqtt, direct, paho;
+  DriveSeries broker_hop;  // a drive-sized message published -> a plain subscriber's callback: in both bridges' paths
   double mqtt_cpu_s = 0, paho_cpu_s = 0;  // utime+stime over their own blocks (tick-sampled)
   std::size_t mqtt_error_replies = 0;
   std::vector<std::string> first_errors;
@@ -344,6 +346,28 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
     publisher.service();
   };
   auto mqtt_drive = [&](bool counted) { drive_through(drive_topic, mm_mqtt, 300, results.mqtt, counted); };
+  // The broker's part of both bridges' paths: the same publish to a subscriber that does
+  // nothing (libmosquitto's thread, woken as a bridge is), timed to its message callback.
+  MqttSubscriber hop_subscriber("127.0.0.1", broker_port, "wheeltec-bench-hop", {std::string(kHopTopic)});
+  auto broker_hop = [&](bool counted) {
+    hop_subscriber.take();
+    const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", 0.5, ++id);
+    const std::int64_t sent = publisher.publish(kHopTopic, payload);
+    std::optional<std::int64_t> received;
+    // Looked at every 20 ms (the callback took the time): a polling thread would take the
+    // one vCPU of User-Mode Linux from the thread being timed.
+    for (int waited = 0; !received && waited < 1000; waited += 20) {
+      sleep_ms(20);
+      for (const auto& message : hop_subscriber.take()) {
+        if (message.payload == payload) received = message.received_ns;
+      }
+    }
+    if (counted) {
+      if (received) results.broker_hop.latency_us.push_back(static_cast<double>(*received - sent) / 1e3);
+      else ++results.broker_hop.missed;
+    }
+    publisher.service();
+  };
   auto paho_drive = [&](bool counted) { drive_through(paho_drive_topic, mm_paho, 200, results.paho, counted); };
   // The paho bridge has no replies on MQTT: its stop is seen on the bus.
   auto paho_stop = [&] {
@@ -411,6 +435,7 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
     paced(n, [&] { paho_drive(true); });
     results.paho_cpu_s += cpu_s(robot.paho_bridge().pid()) - cpu0;
     paho_stop();
+    paced(n, [&] { broker_hop(true); });
   }
   receipts.absorb();
   for (const auto& result : receipts.results()) {
@@ -572,6 +597,7 @@ int measure(const Settings& settings, const fs::path& work) {
   json drive_json = {{"via_mqtt", drives.mqtt.to_json()},
                      {"via_paho_bridge", drives.paho.to_json()},
                      {"direct_wheeltecd", drives.direct.to_json()},
+                     {"broker_hop", drives.broker_hop.to_json()},
                      // what each bridge adds at p50: broker -> bus minus the daemon's socket -> bus
                      {"added_p50_us",
                       {{"wheeltec_mqtt", p50_of(drives.mqtt) - p50_of(drives.direct)},
@@ -749,6 +775,10 @@ int measure(const Settings& settings, const fs::path& work) {
   std::cout << "| reference: drive written on wheeltecd's socket -> frame (same blocks, alternating) | "
             << p50_p99(drive_json["direct_wheeltecd"]) << " | " << drive_json["direct_wheeltecd"]["count"] << " | "
             << drives.direct.missed << " |\n";
+  std::cout << "| reference: the same message published -> a plain subscriber's callback (the broker's hop, in both "
+               "bridges' figures; same blocks) | "
+            << p50_p99(drive_json["broker_hop"]) << " | " << drive_json["broker_hop"]["count"] << " | "
+            << drives.broker_hop.missed << " |\n";
   std::cout << "| 0x103 frame on the bus -> record at the MQTT subscriber, nobody driving | "
             << p50_p99(telemetry["via_mqtt"]) << " | " << telemetry["via_mqtt"]["count"] << " | " << via_mqtt.lost()
             << " of " << via_mqtt.on_bus << " |\n";
@@ -763,14 +793,19 @@ int measure(const Settings& settings, const fs::path& work) {
   {
     const double added_mqtt = drive_json["added_p50_us"]["wheeltec_mqtt"].get<double>();
     const double added_paho = drive_json["added_p50_us"]["paho_bridge"].get<double>();
+    const double hop = p50_of(drives.broker_hop);
     std::cout << fmt::format(
         "| drives, wheeltec-mqtt against the paho bridge (same daemon, same broker, alternating blocks) | wheeltec-mqtt | "
         "paho bridge |\n|---|---|---|\n"
         "| added at p50: broker -> bus minus the daemon's socket -> bus (us) | {:.0f} | {:.0f} |\n"
         "| wheeltec-mqtt's added / the paho bridge's | {:.2f} | |\n"
+        "| the broker's hop at p50, in both (us) | {:.0f} | {:.0f} |\n"
+        "| added minus the broker's hop: the bridge's own part (us) | {:.0f} | {:.0f} |\n"
+        "| the ratio if wheeltec-mqtt's own part were zero: hop / the paho bridge's added | {:.2f} | |\n"
         "| CPU per drive over its blocks (utime+stime, tick-sampled; wheeltec-mqtt's includes its telemetry) (us) | "
         "{:.0f} | {:.0f} |\n",
-        added_mqtt, added_paho, added_paho > 0 ? added_mqtt / added_paho : 0.0,
+        added_mqtt, added_paho, added_paho > 0 ? added_mqtt / added_paho : 0.0, hop, hop, added_mqtt - hop,
+        added_paho - hop, added_paho > 0 ? hop / added_paho : 0.0,
         drive_json["cpu_us_per_drive"]["wheeltec_mqtt"].get<double>(),
         drive_json["cpu_us_per_drive"]["paho_bridge"].get<double>());
     auto loss_cell = [](const json& series) {

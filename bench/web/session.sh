@@ -2,9 +2,9 @@
 # One benchmark session of wheeltec-web (scripts/bench-web.sh runs it in scripts/vcan-run):
 # wheeltec-emu, wheeltecd and wheeltec-web on vcan0 (plain, and a second one over TLS), headless Chromium unless --no-browser,
 # then bench/web/web_bench.cjs. Everything it starts ends with it.
-#   session.sh BUILD_DIR NODE_MODULES TELEMETRY_HZ SECONDS [--no-browser]
+#   session.sh BUILD_DIR NODE_MODULES TELEMETRY_HZ SECONDS VIEWERS [--no-browser]
 set -euo pipefail
-build=$1 node_modules=$2 hz=$3 seconds=$4 browser=${5:-}
+build=$1 node_modules=$2 hz=$3 seconds=$4 viewers=$5 browser=${6:-}
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 work=$(mktemp -d /tmp/bench-web.XXXXXX)
@@ -36,7 +36,7 @@ for _ in $(seq 100); do
   sleep 0.1
 done
 
-args=(--socket "$work/wheeltecd.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds"
+args=(--socket "$work/wheeltecd.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds" --viewers "$viewers"
       --tls-url "https://127.0.0.1:$tls_port" --tls-web-pid "$tls_web_pid")
 # strace counts wheeltec-web's system calls per record exactly (User-Mode Linux charges CPU
 # time in whole 10 ms ticks).

@@ -85,6 +85,7 @@ figures = {
     "drives over MQTT": m["drives"]["via_mqtt"]["count"],
     "drives on the daemon's socket": m["drives"]["direct_wheeltecd"]["count"],
     "drives through the paho bridge": m["drives"]["via_paho_bridge"]["count"],
+    "broker hops timed (the broker's part of both bridges' drives)": m["drives"]["broker_hop"]["count"],
     "broker losses timed for wheeltec-mqtt": len(m["broker_loss"]["wheeltec_mqtt"]["rounds_ms"]),
     "broker losses timed for the paho bridge": len(m["broker_loss"]["paho_bridge"]["rounds_ms"]),
     "telemetry records matched at the MQTT subscriber": m["telemetry"]["via_mqtt"]["count"],
