@@ -32,7 +32,7 @@ Bridge::Bridge(boost::asio::io_context& io, BridgeConfig config)
   mqtt_.on_lost([this](const std::string& reason) { broker_lost(reason); });
   mqtt_.on_message([this](const MqttMessage& message) { handle_message(message); });
   mqtt_.on_drained([this] { flush_backlog(); });
-  mqtt_.subscribe(topics_.command_filter(), 1);
+  for (const std::string& topic : topics_.command_topics()) mqtt_.subscribe(topic, 1);
   daemon_.on_telemetry_text([this](std::string_view record) { handle_telemetry(record); });
   daemon_.on_status([this](const client::Status& status) { handle_status(status.json); });
   daemon_.on_up([this] { daemon_up(); });

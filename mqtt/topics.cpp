@@ -8,9 +8,6 @@ namespace {
 
 constexpr std::size_t kMaxNameBytes = 1024;  // far below MQTT's 65535-byte topics
 
-constexpr std::array kCommands{Command::drive, Command::stop, Command::enable, Command::disable,
-                               Command::reset_odometry};
-
 bool is_valid_utf8(std::string_view text) {
   std::size_t i = 0;
   while (i < text.size()) {
@@ -79,8 +76,9 @@ Topics::Topics(std::string_view prefix, std::string_view robot)
       status_(base_ + "/status"),
       online_(base_ + "/online"),
       stats_(base_ + "/stats"),
-      result_(base_ + "/cmd/result"),
-      command_filter_(base_ + "/cmd/+") {}
+      result_(base_ + "/cmd/result") {
+  for (const Command each : kCommands) command_topics_.push_back(command(each));
+}
 
 std::string Topics::command(Command command) const { return base_ + "/cmd/" + std::string(command_name(command)); }
 

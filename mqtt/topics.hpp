@@ -3,13 +3,17 @@
 // The bridge's MQTT topics under PREFIX/ROBOT (spec section 7), and the rules that keep a
 // prefix or robot name from reaching into other robots' topics.
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace wheeltec::mqtt {
 
 enum class Command { drive, stop, enable, disable, reset_odometry };
+inline constexpr std::array kCommands{Command::drive, Command::stop, Command::enable, Command::disable,
+                                      Command::reset_odometry};
 
 // The topic level of a command ("reset_odometry"), which is also the daemon's method name.
 std::string_view command_name(Command command);
@@ -32,8 +36,9 @@ class Topics {
   const std::string& stats() const { return stats_; }
   // Where results go when the command carried no MQTT 5 response topic.
   const std::string& result() const { return result_; }
-  // The subscription that covers every command topic: PREFIX/ROBOT/cmd/+.
-  const std::string& command_filter() const { return command_filter_; }
+  // The topics subscribed to: PREFIX/ROBOT/cmd/COMMAND for each command. Not cmd/+, which
+  // covers cmd/result too: the broker would send each of the bridge's replies back to it.
+  const std::vector<std::string>& command_topics() const { return command_topics_; }
   std::string command(Command command) const;
   // The command a topic is for; empty for any other topic (cmd/result among them).
   std::optional<Command> command_of(std::string_view topic) const;
@@ -42,7 +47,8 @@ class Topics {
 
  private:
   std::string base_;
-  std::string telemetry_, status_, online_, stats_, result_, command_filter_;
+  std::string telemetry_, status_, online_, stats_, result_;
+  std::vector<std::string> command_topics_;
 };
 
 }  // namespace wheeltec::mqtt

@@ -12,7 +12,9 @@ TEST(MqttTopics, AreUnderPrefixAndRobot) {
   EXPECT_EQ(topics.online(), "wheeltec/r1/online");
   EXPECT_EQ(topics.stats(), "wheeltec/r1/stats");
   EXPECT_EQ(topics.result(), "wheeltec/r1/cmd/result");
-  EXPECT_EQ(topics.command_filter(), "wheeltec/r1/cmd/+");
+  EXPECT_EQ(topics.command_topics(),
+            (std::vector<std::string>{"wheeltec/r1/cmd/drive", "wheeltec/r1/cmd/stop", "wheeltec/r1/cmd/enable",
+                                      "wheeltec/r1/cmd/disable", "wheeltec/r1/cmd/reset_odometry"}));
   EXPECT_EQ(topics.command(Command::reset_odometry), "wheeltec/r1/cmd/reset_odometry");
 }
 
