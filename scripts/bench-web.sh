@@ -10,10 +10,11 @@
 #   (--no-browser leaves 3 out.)
 # Telemetry at 50 Hz for 20 s per run; --quick: 5 s, to check that it works.
 #
-#   scripts/bench-web.sh [--quick] [--no-browser] [--viewers N]
+#   scripts/bench-web.sh [--quick] [--no-browser] [--viewers N] [--serial]
 #
 # --viewers N: N Foxglove clients instead of 8 (1: what one viewer sees, with no other
-# viewer's send before its own).
+# viewer's send before its own). --serial: the emulator and the daemon on a pseudo-terminal,
+# natively, without scripts/vcan-run (the figures of this host without User-Mode Linux).
 #
 # BUILD_DIR (default build/) must hold wheeltec-emu, wheeltecd and wheeltec-web; npm's
 # Foxglove client is installed into BUILD_DIR/tests/web/node from tests/web/package-lock.json
@@ -26,15 +27,17 @@ BENCH_OUT=${BENCH_OUT:-$BUILD_DIR/bench-results}
 seconds=20
 browser=
 viewers=8
+link=
 while (($#)); do
   case $1 in
     --quick) seconds=5 ;;
     --no-browser) browser=--no-browser ;;  # the Foxglove rounds only (Chromium in a loaded VM takes minutes)
+    --serial) link=--serial ;;
     --viewers)
       [[ ${2:-} =~ ^[1-9][0-9]*$ ]] || { echo "bench-web.sh: --viewers needs a number of 1 or more" >&2; exit 2; }
       viewers=$2
       shift ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
     *) echo "bench-web.sh: unknown argument $1" >&2; exit 2 ;;
   esac
   shift
@@ -53,10 +56,16 @@ mkdir -p "$BENCH_OUT"
 
 started=$SECONDS
 status=0
-"$REPO_ROOT/scripts/vcan-run" -- "$REPO_ROOT/bench/web/session.sh" "$BUILD_DIR" "$node_dir/node_modules" 50 "$seconds" "$viewers" $browser \
+runner=("$REPO_ROOT/scripts/vcan-run" --)
+where="including the virtual machine's boot"
+if [[ -n $link ]]; then
+  runner=()
+  where=natively
+fi
+"${runner[@]}" "$REPO_ROOT/bench/web/session.sh" "$BUILD_DIR" "$node_dir/node_modules" 50 "$seconds" "$viewers" $browser $link \
   >"$BENCH_OUT/web-run.txt" || status=$?
 {
-  echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs, load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s including the virtual machine's boot; telemetry at 50 Hz, ${seconds} s per run, $viewers Foxglove clients."
+  echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs, load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s $where; telemetry at 50 Hz, ${seconds} s per run, $viewers Foxglove clients, ${link:-on vcan0 through scripts/vcan-run}."
   echo
   grep -v '^{' "$BENCH_OUT/web-run.txt" || true
 } >"$BENCH_OUT/web-table.md"

@@ -2,9 +2,20 @@
 # One benchmark session of wheeltec-web (scripts/bench-web.sh runs it in scripts/vcan-run):
 # wheeltec-emu, wheeltecd and wheeltec-web on vcan0 (plain, and a second one over TLS), headless Chromium unless --no-browser,
 # then bench/web/web_bench.cjs. Everything it starts ends with it.
-#   session.sh BUILD_DIR NODE_MODULES TELEMETRY_HZ SECONDS VIEWERS [--no-browser]
+#   session.sh BUILD_DIR NODE_MODULES TELEMETRY_HZ SECONDS VIEWERS [--no-browser] [--serial]
+# --serial: the emulator and the daemon on a pseudo-terminal instead of vcan0 (no scripts/vcan-run
+# needed: natively on any host).
 set -euo pipefail
-build=$1 node_modules=$2 hz=$3 seconds=$4 viewers=$5 browser=${6:-}
+build=$1 node_modules=$2 hz=$3 seconds=$4 viewers=$5
+shift 5
+browser= link=(--interface vcan0)
+for flag in "$@"; do
+  case $flag in
+    --no-browser) browser=--no-browser ;;
+    --serial) link=(--serial) ;;
+    *) echo "session.sh: unknown flag $flag" >&2; exit 2 ;;
+  esac
+done
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 work=$(mktemp -d /tmp/bench-web.XXXXXX)
@@ -12,10 +23,12 @@ pids=()
 trap 'kill "${pids[@]}" 2>/dev/null; wait 2>/dev/null; rm -rf "$work"' EXIT
 port=18090
 
-"$build/emulator/wheeltec-emu" --interface vcan0 --boot-delay 0 --no-self-test --telemetry-hz "$hz" \
+[[ ${link[0]} == --serial ]] && link=(--serial "$work/tty")
+"$build/emulator/wheeltec-emu" "${link[@]}" --boot-delay 0 --no-self-test --telemetry-hz "$hz" \
   >"$work/emu.log" 2>&1 &
 pids+=($!)
-"$build/daemon/wheeltecd" --interface vcan0 --socket "$work/wheeltecd.sock" --log-level warn >"$work/daemon.log" 2>&1 &
+for _ in $(seq 50); do [[ ${link[0]} != --serial || -e $work/tty ]] && break; sleep 0.1; done
+"$build/daemon/wheeltecd" "${link[@]}" --socket "$work/wheeltecd.sock" --log-level warn >"$work/daemon.log" 2>&1 &
 pids+=($!)
 "$build/web/wheeltec-web" --socket "$work/wheeltecd.sock" --listen "127.0.0.1:$port" --page-dir "$repo/web/page" \
   --log-level warn >"$work/web.log" 2>&1 &
@@ -36,7 +49,12 @@ for _ in $(seq 100); do
   sleep 0.1
 done
 
-args=(--socket "$work/wheeltecd.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds" --viewers "$viewers"
+# The floor of one process between the daemon and a subscriber, measured beside wheeltec-web.
+python3 "$here/relay.py" "$work/relay.sock" "$work/wheeltecd.sock" 2>"$work/relay.log" &
+pids+=($!)
+for _ in $(seq 50); do [[ -S $work/relay.sock ]] && break; sleep 0.1; done
+
+args=(--socket "$work/wheeltecd.sock" --relay-socket "$work/relay.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds" --viewers "$viewers"
       --tls-url "https://127.0.0.1:$tls_port" --tls-web-pid "$tls_web_pid")
 # strace counts wheeltec-web's system calls per record exactly (User-Mode Linux charges CPU
 # time in whole 10 ms ticks).

@@ -12,9 +12,11 @@
 //      counted exactly (strace -c -f -p, attached for half the run after the latency window,
 //      so that strace's own cost is not in the latencies), by system call;
 //   5. with --tls-url https://127.0.0.1:PORT2 --tls-web-pid PID2 (a second wheeltec-web with a
-//      certificate that $NODE_EXTRA_CA_CERTS trusts): round 1 and 2 again over wss://.
+//      certificate that $NODE_EXTRA_CA_CERTS trusts): round 1 and 2 again over wss://;
+//   6. with --relay-socket PATH (bench/web/relay.py): a third subscriber through one process
+//      that only reads and writes, the floor of any bridge, and wheeltec-web over that floor.
 //   node web_bench.cjs --socket PATH --url http://127.0.0.1:PORT --web-pid PID
-//                      [--viewers 8] [--seconds 20] [--devtools PORT]
+//                      [--viewers 8] [--seconds 20] [--devtools PORT] [--relay-socket PATH]
 //                      [--tls-url https://127.0.0.1:PORT2 --tls-web-pid PID2] [--strace PATH]
 // Prints a table and, last, one JSON line with every figure.
 'use strict';
@@ -207,6 +209,9 @@ async function foxgloveRound(wsUrl, pid) {
   const daemon = new Latencies();
   const foxglove = new Latencies();
   const daemonSocket = await daemonSubscriber(options.socket, daemon);
+  // The same subscription through bench/web/relay.py: the floor of one process in between.
+  const relayed = new Latencies();
+  const relaySocket = options.relaySocket ? await daemonSubscriber(options.relaySocket, relayed) : null;
   const clients = [];
   for (let i = 0; i < viewers; ++i) clients.push(await foxgloveViewer(wsUrl, foxglove));
   await sleep(2000);
@@ -216,18 +221,19 @@ async function foxgloveRound(wsUrl, pid) {
   const counting = await daemonSubscriber(options.socket, counter);
   await sleep(500);
   const cpuBefore = cpuSeconds(pid);
-  daemon.recording = foxglove.recording = counter.recording = true;
+  daemon.recording = foxglove.recording = counter.recording = relayed.recording = true;
   await sleep(seconds * 1000);
-  daemon.recording = foxglove.recording = counter.recording = false;
+  daemon.recording = foxglove.recording = counter.recording = relayed.recording = false;
   const cpu = cpuSeconds(pid) - cpuBefore;
   counting.destroy();
   console.error(`web_bench: latency window done (${wsUrl})`);
   const syscalls = options.strace ? await syscallsPerRecord(pid, Math.max(2, seconds / 2)) : null;
   if (options.strace) console.error('web_bench: system calls counted');
   daemonSocket.destroy();
+  relaySocket?.destroy();
   for (const client of clients) client.close();
   return {
-    daemon: daemon.summary(), viewers: foxglove.summary(),
+    daemon: daemon.summary(), viewers: foxglove.summary(), relayed: relaySocket ? relayed.summary() : null,
     cpu: { records, cpu_s: cpu, us_per_record: records ? (cpu / records) * 1e6 : null,
            us_per_message: records ? (cpu / (records * viewers)) * 1e6 : null, tick_s: 0.01 },
     memory: memoryKiB(pid),
@@ -242,6 +248,16 @@ function added(round) {
   const p99 = round.viewers.p99_ms - round.daemon.p99_ms;
   return { p50_ms: p50, p99_ms: p99, target_ms: 0.3, met: p50 <= 0.3 && p99 <= 0.3 };
 }
+// What one relay process adds (the floor of any bridge on this machine), and wheeltec-web over that floor.
+function relayFloor(round) {
+  if (!round.relayed?.n) return null;
+  return { relay_p50_ms: round.relayed.p50_ms - round.daemon.p50_ms, relay_p99_ms: round.relayed.p99_ms - round.daemon.p99_ms,
+           web_over_relay_p50_ms: round.viewers.p50_ms - round.relayed.p50_ms,
+           web_over_relay_p99_ms: round.viewers.p99_ms - round.relayed.p99_ms };
+}
+const floorLine = (what, f) => f ? `one relay process (bench/web/relay.py)${what} adds over the daemon's subscriber: p50 ` +
+  `${f.relay_p50_ms.toFixed(2)} ms, p99 ${f.relay_p99_ms.toFixed(2)} ms; wheeltec-web adds over that relay: p50 ` +
+  `${f.web_over_relay_p50_ms.toFixed(2)} ms, p99 ${f.web_over_relay_p99_ms.toFixed(2)} ms` : null;
 const addedLine = (what, a) => `added by wheeltec-web${what} over the daemon's subscriber: p50 ${a.p50_ms.toFixed(2)} ms, ` +
   `p99 ${a.p99_ms.toFixed(2)} ms (target: at most ${a.target_ms} ms each; ${a.met ? 'met' : 'not met'})`;
 
@@ -264,7 +280,8 @@ async function main() {
   setTimeout(() => fail('timed out'), (4 * seconds + 240) * 1000).unref();  // Chromium in User-Mode Linux loads slowly
   const result = { viewers, seconds };
   const plain = await foxgloveRound(options.url.replace(/^http/, 'ws'), options.webPid);
-  result.foxglove = { daemon: plain.daemon, viewers: plain.viewers };
+  result.foxglove = { daemon: plain.daemon, viewers: plain.viewers, relayed: plain.relayed };
+  result.relay_floor = relayFloor(plain);
   result.cpu = plain.cpu;
   result.syscalls = plain.syscalls;
   result.added = added(plain);
@@ -272,7 +289,8 @@ async function main() {
   if (options.tlsUrl) {
     // wss:// to a second wheeltec-web with a certificate ($NODE_EXTRA_CA_CERTS trusts it).
     const tls = await foxgloveRound(options.tlsUrl.replace(/^https/, 'wss'), options.tlsWebPid);
-    result.tls = { daemon: tls.daemon, viewers: tls.viewers, cpu: tls.cpu, memory: tls.memory, added: added(tls),
+    result.tls = { daemon: tls.daemon, viewers: tls.viewers, relayed: tls.relayed, relay_floor: relayFloor(tls),
+                   cpu: tls.cpu, memory: tls.memory, added: added(tls),
                    syscalls: tls.syscalls };
   }
 
@@ -288,6 +306,7 @@ async function main() {
   console.log('|---|---|---|---|---|');
   console.log(row('wheeltecd subscriber (same run)', result.foxglove.daemon));
   console.log(row(`${viewers} Foxglove clients via wheeltec-web`, result.foxglove.viewers));
+  if (result.foxglove.relayed) console.log(row('wheeltecd subscriber through one relay process', result.foxglove.relayed));
   if (result.tls) {
     console.log(row('wheeltecd subscriber (wss:// run)', result.tls.daemon));
     console.log(row(`${viewers} Foxglove clients over wss://`, result.tls.viewers));
@@ -298,6 +317,8 @@ async function main() {
   }
   console.log(addedLine('', result.added));
   if (result.tls) console.log(addedLine(' over wss://', result.tls.added));
+  if (result.relay_floor) console.log(floorLine('', result.relay_floor));
+  if (result.tls?.relay_floor) console.log(floorLine(' (wss:// run)', result.tls.relay_floor));
   console.log(cpuLine('', result.cpu));
   if (result.tls) console.log(cpuLine(' over wss://', result.tls.cpu));
   console.log(syscallLine('', result.syscalls));

@@ -158,6 +158,7 @@ w = json.load(open(sys.argv[1]))
 figures = {"Foxglove messages": w["foxglove"]["viewers"]["n"], "daemon messages": w["foxglove"]["daemon"]["n"],
            "page messages": w["browser"]["page"]["n"], "records in the CPU window": w["cpu"]["records"],
            "wss:// Foxglove messages": w["tls"]["viewers"]["n"],
+           "messages through the relay (the floor of one process)": (w["foxglove"].get("relayed") or {}).get("n"),
            "RSS": w["memory"]["rss_kib"]}
 missing = [name for name, value in figures.items() if not value]
 if missing:
