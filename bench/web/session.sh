@@ -20,7 +20,14 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 work=$(mktemp -d /tmp/bench-web.XXXXXX)
 pids=()
-trap 'kill "${pids[@]}" 2>/dev/null; wait 2>/dev/null; rm -rf "$work"' EXIT
+# Chromium's own children may still be writing its profile when it has exited: the removal is
+# tried again, and never fails the session (a failing command in an EXIT trap would, under set -e).
+cleanup() {
+  kill "${pids[@]}" 2>/dev/null || true
+  wait 2>/dev/null || true
+  rm -rf "$work" 2>/dev/null || { sleep 1; rm -rf "$work" 2>/dev/null; } || true
+}
+trap cleanup EXIT
 port=18090
 
 [[ ${link[0]} == --serial ]] && link=(--serial "$work/tty")
