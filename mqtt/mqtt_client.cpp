@@ -334,10 +334,9 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
   }
 
   // libmosquitto reads one packet a call (more only while QoS 1 messages are in flight), and
-  // Asio's epoll is edge-triggered: a packet left in the socket waited for the broker's next
-  // one (drives 12-44 ms late in bench-mqtt, phase-locked to the bridge's telemetry). So the
-  // socket is read until it is empty; a packet still partly on its way ends the loop and
-  // brings the next edge.
+  // Asio's epoll is edge-triggered: a second packet that came in the same segment would wait
+  // in the socket for the broker's next one. So the socket is read until it is empty; a
+  // packet still partly on its way ends the loop and brings the next edge.
   void read_available() {
     constexpr int kPacketsPerTurn = 64;  // then the rest in a handler of its own: a flood starves nothing
     const std::uint64_t generation = generation_;

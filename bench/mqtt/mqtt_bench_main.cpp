@@ -80,8 +80,8 @@ struct Settings {
   int loss_rounds = 5;                     // broker kills per bridge
 };
 
-constexpr const char* kPahoRobot = "py1";
-constexpr const char* kHopTopic = "wheeltec-bench/hop";  // the paho bridge's topics: same daemon as r1, topics of its own
+constexpr const char* kPahoRobot = "py1";  // the paho bridge's topics: same daemon as r1, topics of its own
+constexpr const char* kHopTopic = "wheeltec-bench/hop";  // the broker's hop alone: no bridge subscribes to it
 
 void usage() {
   std::cout << "usage: wheeltec-bench-mqtt --wheeltecd PATH --emulator PATH --bridge PATH [--mosquitto PATH]\n"
