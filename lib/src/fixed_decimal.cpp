@@ -10,9 +10,8 @@
 namespace wheeltec {
 namespace {
 
-constexpr int kMaxFastDecimals = 9;
-constexpr std::array<double, kMaxFastDecimals + 1> kPowersOfTen{1e0, 1e1, 1e2, 1e3, 1e4,
-                                                                1e5, 1e6, 1e7, 1e8, 1e9};
+constexpr std::array<std::uint64_t, kMaxFastDecimals + 1> kPowersOfTen{
+    1, 10, 100, 1'000, 10'000, 100'000, 1'000'000, 10'000'000, 100'000'000, 1'000'000'000};
 
 // Below this the scaling's rounding error is under 2^-53 * 1e12 < 1.2e-4 of a unit in
 // the last place; a fraction further than kTieMargin from one half rounds the same way
@@ -25,53 +24,84 @@ constexpr char kDigitPairs[] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
+int digit_count(std::uint64_t value) {
+  int count = 1;
+  for (; value >= 10; value /= 10) ++count;
+  return count;
+}
+
+// Writes `value` into the `count` characters that end at `end`, from the last.
+template <typename Unsigned>
+void write_digits_backwards(char* end, int count, Unsigned value) {
+  for (; count >= 2; count -= 2) {
+    end -= 2;
+    std::memcpy(end, &kDigitPairs[2 * (value % 100)], 2);
+    value /= 100;
+  }
+  if (count == 1) end[-1] = static_cast<char>('0' + value % 10);
+}
+
 }  // namespace
 
-std::to_chars_result fixed_decimal_to_chars(char* first, char* last, double value, int decimals) {
-  if (decimals < 0 || decimals > kMaxFastDecimals || !std::isfinite(value)) {
-    return std::to_chars(first, last, value, std::chars_format::fixed, decimals);
-  }
-  const double scaled = std::fabs(value) * kPowersOfTen[static_cast<std::size_t>(decimals)];
-  if (!(scaled < kMaxFastScaled)) return std::to_chars(first, last, value, std::chars_format::fixed, decimals);
+template <int Decimals>
+std::to_chars_result fixed_decimal_to_chars(char* first, char* last, double value) {
+  static_assert(Decimals >= 0 && Decimals <= kMaxFastDecimals);
+  constexpr std::uint64_t kUnit = kPowersOfTen[Decimals];
+  const double scaled = std::fabs(value) * static_cast<double>(kUnit);
+  // Also false for NaN and infinity.
+  if (!(scaled < kMaxFastScaled)) return std::to_chars(first, last, value, std::chars_format::fixed, Decimals);
   const auto whole = static_cast<std::uint64_t>(scaled);  // the floor: scaled is not negative
   const double fraction = scaled - static_cast<double>(whole);  // exact below 2^53
   if (std::fabs(fraction - 0.5) < kTieMargin) {
-    return std::to_chars(first, last, value, std::chars_format::fixed, decimals);
+    return std::to_chars(first, last, value, std::chars_format::fixed, Decimals);
   }
   const std::uint64_t rounded = whole + (fraction > 0.5 ? 1 : 0);
+  const std::uint64_t integer_part = rounded / kUnit;
+  const auto decimal_part = static_cast<std::uint32_t>(rounded % kUnit);
 
-  // Written backwards from the last decimal: at most 1 + 13 + 1 + 9 characters.
-  char digits[32];
-  char* begin = digits + sizeof digits;
-  std::uint64_t rest = rounded;
-  int decimals_left = decimals;
-  for (; decimals_left >= 2; decimals_left -= 2) {
-    begin -= 2;
-    std::memcpy(begin, &kDigitPairs[2 * (rest % 100)], 2);
-    rest /= 100;
-  }
-  if (decimals_left == 1) {
-    *--begin = static_cast<char>('0' + rest % 10);
-    rest /= 10;
-  }
-  if (decimals > 0) *--begin = '.';
-  while (rest >= 100) {
-    begin -= 2;
-    std::memcpy(begin, &kDigitPairs[2 * (rest % 100)], 2);
-    rest /= 100;
-  }
-  if (rest >= 10) {
-    begin -= 2;
-    std::memcpy(begin, &kDigitPairs[2 * rest], 2);
-  } else {
-    *--begin = static_cast<char>('0' + rest);  // at least one integer digit: 0.005
-  }
-  if (std::signbit(value)) *--begin = '-';
-
-  const auto length = static_cast<std::size_t>(digits + sizeof digits - begin);
+  const bool negative = std::signbit(value);
+  const int integer_digits = digit_count(integer_part);
+  const auto length = static_cast<std::size_t>(negative) + static_cast<std::size_t>(integer_digits) +
+                      (Decimals > 0 ? 1 + Decimals : 0);
   if (static_cast<std::size_t>(last - first) < length) return {last, std::errc::value_too_large};
-  std::memcpy(first, begin, length);
-  return {first + length, std::errc{}};
+
+  char* out = first;
+  if (negative) *out++ = '-';
+  out += integer_digits;
+  write_digits_backwards(out, integer_digits, integer_part);
+  if constexpr (Decimals > 0) {
+    *out++ = '.';
+    out += Decimals;
+    write_digits_backwards(out, Decimals, decimal_part);
+  }
+  return {out, std::errc{}};
+}
+
+template std::to_chars_result fixed_decimal_to_chars<0>(char*, char*, double);
+template std::to_chars_result fixed_decimal_to_chars<1>(char*, char*, double);
+template std::to_chars_result fixed_decimal_to_chars<2>(char*, char*, double);
+template std::to_chars_result fixed_decimal_to_chars<3>(char*, char*, double);
+template std::to_chars_result fixed_decimal_to_chars<4>(char*, char*, double);
+template std::to_chars_result fixed_decimal_to_chars<5>(char*, char*, double);
+template std::to_chars_result fixed_decimal_to_chars<6>(char*, char*, double);
+template std::to_chars_result fixed_decimal_to_chars<7>(char*, char*, double);
+template std::to_chars_result fixed_decimal_to_chars<8>(char*, char*, double);
+template std::to_chars_result fixed_decimal_to_chars<9>(char*, char*, double);
+
+std::to_chars_result fixed_decimal_to_chars(char* first, char* last, double value, int decimals) {
+  switch (decimals) {
+    case 0: return fixed_decimal_to_chars<0>(first, last, value);
+    case 1: return fixed_decimal_to_chars<1>(first, last, value);
+    case 2: return fixed_decimal_to_chars<2>(first, last, value);
+    case 3: return fixed_decimal_to_chars<3>(first, last, value);
+    case 4: return fixed_decimal_to_chars<4>(first, last, value);
+    case 5: return fixed_decimal_to_chars<5>(first, last, value);
+    case 6: return fixed_decimal_to_chars<6>(first, last, value);
+    case 7: return fixed_decimal_to_chars<7>(first, last, value);
+    case 8: return fixed_decimal_to_chars<8>(first, last, value);
+    case 9: return fixed_decimal_to_chars<9>(first, last, value);
+    default: return std::to_chars(first, last, value, std::chars_format::fixed, decimals);
+  }
 }
 
 }  // namespace wheeltec

@@ -31,13 +31,14 @@ class RecordWriter {
 
   void boolean(bool value) { text(value ? std::string_view("true") : std::string_view("false")); }
 
-  void fixed(double value, int decimals) {
+  template <int Decimals>
+  void fixed(double value) {
     if (!std::isfinite(value)) {
       text("null");  // JSON has no NaN or infinity
       return;
     }
     char* const begin = end_;
-    const auto result = fixed_decimal_to_chars(begin, begin + kLongestFixed, value, decimals);
+    const auto result = fixed_decimal_to_chars<Decimals>(begin, begin + kLongestFixed, value);
     if (result.ec != std::errc{}) {
       text("null");
       return;
@@ -50,15 +51,17 @@ class RecordWriter {
     }
   }
 
-  void member(std::string_view key_with_quotes_and_colon, double value, int decimals) {
+  template <int Decimals>
+  void member(std::string_view key_with_quotes_and_colon, double value) {
     text(key_with_quotes_and_colon);
-    fixed(value, decimals);
+    fixed<Decimals>(value);
   }
 
-  void vector(const Vector3& v, int decimals) {
-    member("{\"x\":", v.x, decimals);
-    member(",\"y\":", v.y, decimals);
-    member(",\"z\":", v.z, decimals);
+  template <int Decimals>
+  void vector(const Vector3& v) {
+    member<Decimals>("{\"x\":", v.x);
+    member<Decimals>(",\"y\":", v.y);
+    member<Decimals>(",\"z\":", v.z);
     text("}");
   }
 
@@ -101,31 +104,31 @@ void write_record(RecordWriter& w, const TelemetrySample& sample) {
   w.text(",\"stopped\":");
   w.boolean(r.stopped);
 
-  w.member(",\"velocity\":{\"vx\":", r.velocity.vx, 3);
-  w.member(",\"vy\":", r.velocity.vy, 3);
-  w.member(",\"wz\":", r.velocity.wz, 3);
+  w.member<3>(",\"velocity\":{\"vx\":", r.velocity.vx);
+  w.member<3>(",\"vy\":", r.velocity.vy);
+  w.member<3>(",\"wz\":", r.velocity.wz);
 
   w.text("},\"accel\":");
-  w.vector(r.accel, 4);
+  w.vector<4>(r.accel);
   w.text(",\"gyro\":");
-  w.vector(r.gyro, 5);
+  w.vector<5>(r.gyro);
 
-  w.member(",\"battery\":{\"voltage\":", r.battery_v, 3);
+  w.member<3>(",\"battery\":{\"voltage\":", r.battery_v);
   w.text(",\"low\":");
   w.boolean(sample.battery_low);
 
-  w.member("},\"odom\":{\"x\":", sample.odom.x, 6);
-  w.member(",\"y\":", sample.odom.y, 6);
-  w.member(",\"yaw\":", sample.odom.yaw, 6);
+  w.member<6>("},\"odom\":{\"x\":", sample.odom.x);
+  w.member<6>(",\"y\":", sample.odom.y);
+  w.member<6>(",\"yaw\":", sample.odom.yaw);
 
   const Orientation& o = sample.orientation;
-  w.member("},\"orientation\":{\"w\":", o.w, 6);
-  w.member(",\"x\":", o.x, 6);
-  w.member(",\"y\":", o.y, 6);
-  w.member(",\"z\":", o.z, 6);
-  w.member(",\"roll\":", o.roll, 6);
-  w.member(",\"pitch\":", o.pitch, 6);
-  w.member(",\"yaw\":", o.yaw, 6);
+  w.member<6>("},\"orientation\":{\"w\":", o.w);
+  w.member<6>(",\"x\":", o.x);
+  w.member<6>(",\"y\":", o.y);
+  w.member<6>(",\"z\":", o.z);
+  w.member<6>(",\"roll\":", o.roll);
+  w.member<6>(",\"pitch\":", o.pitch);
+  w.member<6>(",\"yaw\":", o.yaw);
   w.text("}}");
 }
 

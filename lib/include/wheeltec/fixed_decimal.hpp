@@ -10,7 +10,14 @@ namespace wheeltec {
 // carries. A value is scaled by 10^decimals and rounded in integer arithmetic when the
 // scaled value is small and far enough from a rounding tie that the one rounding error
 // of the scaling cannot change the result; anything else (ties, huge or non-finite
-// values, more than 9 decimals) goes to std::to_chars.
+// values, more than kMaxFastDecimals decimals) goes to std::to_chars.
 std::to_chars_result fixed_decimal_to_chars(char* first, char* last, double value, int decimals);
+
+inline constexpr int kMaxFastDecimals = 9;
+
+// The same with the number of decimals fixed at compile time (0 to kMaxFastDecimals),
+// where the scaling's division costs a multiplication.
+template <int Decimals>
+std::to_chars_result fixed_decimal_to_chars(char* first, char* last, double value);
 
 }  // namespace wheeltec
