@@ -16,11 +16,15 @@
 #      and the broker's system calls per record (strace -c);
 #   4. N robots against one broker (1, 2, 4, 8, 16, until records are lost): records/s at
 #      one subscriber of wheeltec/+/telemetry, records lost, the bridges' telemetry_dropped.
+# With --serial it runs natively instead (no vcan, no User-Mode Linux): one robot, whose chassis
+# is a pseudo-terminal that the benchmark itself plays (records at 20 Hz, command frames timed
+# when read), and only 1, 1b and 1c; 2-4 need the bus and are skipped. About 2 minutes, 20 s
+# with --quick.
 # Writes $BENCH_OUT (default: $BUILD_DIR/bench-results) /mqtt.json and mqtt-table.md.
 # Takes about 3 minutes; --quick (short runs, 1 and 2 robots, to check that it works) well
 # under a minute.
 #
-#   scripts/bench-mqtt.sh [--quick] [-- MORE ARGUMENTS OF wheeltec-bench-mqtt]
+#   scripts/bench-mqtt.sh [--quick] [--serial] [-- MORE ARGUMENTS OF wheeltec-bench-mqtt]
 #
 # BUILD_DIR (default /tmp/build-bench) is configured and built if needed. MQTT_BENCH_ROBOTS
 # (e.g. "1,2,4,8,16,24") replaces the list of robot counts.
@@ -30,12 +34,14 @@ REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD_DIR=${BUILD_DIR:-/tmp/build-bench}
 BENCH_OUT=${BENCH_OUT:-$BUILD_DIR/bench-results}
 QUICK=0
+SERIAL=0
 extra=()
 while (($#)); do
   case "$1" in
     --quick) QUICK=1 ;;
+    --serial) SERIAL=1 ;;
     --) shift; extra=("$@"); break ;;
-    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
     *) echo "bench-mqtt.sh: unknown argument $1" >&2; exit 2 ;;
   esac
   shift
@@ -53,6 +59,37 @@ elif ! grep -q '^WHEELTEC_BUILD_BENCHMARKS:BOOL=ON' "$BUILD_DIR/CMakeCache.txt";
 fi
 cmake --build "$BUILD_DIR" --target wheeltec-bench-mqtt wheeltecd wheeltec-emu wheeltec-mqtt -j"${BUILD_JOBS:-2}"
 mkdir -p "$BENCH_OUT"
+
+programs=(--wheeltecd "$BUILD_DIR/daemon/wheeltecd" --bridge "$BUILD_DIR/mqtt/wheeltec-mqtt"
+  --paho-bridge "$REPO_ROOT/bench/mqtt/paho_bridge.py" --python /usr/bin/python3
+  --mosquitto "$(command -v mosquitto || echo /usr/sbin/mosquitto)")
+
+# Sets the run's line above the benchmark's tables in mqtt-table.md, prints it and exits with
+# the benchmark's status. $1: what the time includes, or where it ran.
+report() {
+  {
+    echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s$1."
+    echo
+    cat "$BENCH_OUT/mqtt-table.body.md"
+  } >"$BENCH_OUT/mqtt-table.md"
+  rm -f "$BENCH_OUT/mqtt-table.body.md"
+  echo
+  cat "$BENCH_OUT/mqtt-table.md"
+  echo
+  echo "bench-mqtt.sh: figures in $BENCH_OUT (mqtt-table.md, mqtt.json)"
+  exit "$status"
+}
+
+if ((SERIAL)); then
+  quick=()
+  ((QUICK)) && quick=(--quick)
+  echo "== wheeltec-mqtt: 1 robot on a serial line (a pseudo-terminal played by the benchmark), against one mosquitto, natively"
+  started=$SECONDS
+  status=0
+  "$BUILD_DIR/bench/wheeltec-bench-mqtt" "${programs[@]}" --serial --json "$BENCH_OUT/mqtt.json" "${quick[@]}" \
+    "${extra[@]}" >"$BENCH_OUT/mqtt-table.body.md" || status=$?
+  report ", natively, the chassis on a pseudo-terminal"
+fi
 
 args=()
 # strace counts the system calls of the bridge and the broker per record exactly (the CPU
@@ -72,20 +109,7 @@ echo "== wheeltec-mqtt: 1 robot, then $robots robots against one mosquitto (thro
 started=$SECONDS
 status=0
 VCAN_INTERFACES=${interfaces% } "$REPO_ROOT/scripts/vcan-run" -- "$BUILD_DIR/bench/wheeltec-bench-mqtt" \
-  --wheeltecd "$BUILD_DIR/daemon/wheeltecd" --emulator "$BUILD_DIR/emulator/wheeltec-emu" \
-  --bridge "$BUILD_DIR/mqtt/wheeltec-mqtt" --paho-bridge "$REPO_ROOT/bench/mqtt/paho_bridge.py" --python /usr/bin/python3 \
-  --mosquitto "$(command -v mosquitto || echo /usr/sbin/mosquitto)" \
+  "${programs[@]}" --emulator "$BUILD_DIR/emulator/wheeltec-emu" \
   --robots "$robots" --json "$BENCH_OUT/mqtt.json" "${args[@]}" "${extra[@]}" >"$BENCH_OUT/mqtt-table.body.md" ||
   status=$?
-
-{
-  echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s including the virtual machine's boot."
-  echo
-  cat "$BENCH_OUT/mqtt-table.body.md"
-} >"$BENCH_OUT/mqtt-table.md"
-rm -f "$BENCH_OUT/mqtt-table.body.md"
-echo
-cat "$BENCH_OUT/mqtt-table.md"
-echo
-echo "bench-mqtt.sh: figures in $BENCH_OUT (mqtt-table.md, mqtt.json)"
-exit "$status"
+report " including the virtual machine's boot"

@@ -9,7 +9,6 @@
 // markdown table and writes the figures as JSON; scripts/bench.sh sets them beside vcan's.
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -18,7 +17,6 @@
 #include <span>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -30,6 +28,7 @@
 #include "gateway_latency.hpp"
 #include "pty_endpoint.hpp"
 #include "pty_floor.hpp"
+#include "serial_chassis.hpp"
 #include "subscriber_set.hpp"
 
 namespace bench {
@@ -70,28 +69,6 @@ struct Options {
   }
 };
 
-json call(const fs::path& socket, const std::string& method) {
-  LineClient client(socket);
-  client.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":1,"method":"{}"}})", method));
-  return json::parse(client.read_line(2000)).at("result");
-}
-
-// Records with flag_stop clear at 20 Hz until the daemon says the chassis is online and
-// `ready` (a first record with flag_stop clear is ready at once).
-void bring_ready(PtyEndpoint& line, const fs::path& socket, ChildProgram& daemon) {
-  json status;
-  for (int n = 0; n < 100; ++n) {
-    line.write(wheeltec::encode_record(bench_record(n)));
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    status = call(socket, "status");
-    if (status["bus"]["state"] == "up" && status["chassis"]["online"] == true && status["chassis"]["phase"] == "ready") {
-      return;
-    }
-  }
-  throw std::runtime_error("the chassis did not become ready within 5 s; last status " + status.dump() + "\n" +
-                           daemon.log_tail());
-}
-
 std::string p50_p99(const LatencySummary& l) { return fmt::format("{:.0f} / {:.0f}", l.p50_us, l.p99_us); }
 
 int run(const Options& s) {
@@ -116,7 +93,11 @@ int run(const Options& s) {
   PtyEndpoint line(link);
   ChildProgram daemon("wheeltecd", {s.wheeltecd, "--config", config.string(), "--serial", link.string()}, dir);
   daemon.wait_for_socket(socket);
-  bring_ready(line, socket, daemon);
+  {
+    // Records at 20 Hz until the chassis is ready, then none: the telemetry measurement writes its own.
+    RecordStream records(line);
+    wait_until_ready(socket, daemon);
+  }
 
   std::cerr << "bench: wheeltecd on " << line.slave_path() << ": drive -> command frame\n";
   line.drain();
@@ -134,8 +115,8 @@ int run(const Options& s) {
   });
   out["wheeltecd"]["telemetry_latency_1"] = telemetry.all.to_json();
   out["wheeltecd"]["telemetry_latency_1"]["lost"] = telemetry.lost;
-  out["wheeltecd"]["status"] = call(socket, "status");
-  out["wheeltecd"]["stats"] = call(socket, "stats");
+  out["wheeltecd"]["status"] = api_call(socket, "status");
+  out["wheeltecd"]["stats"] = api_call(socket, "stats");
   daemon.terminate();
 
   const LatencySummary command = summarize(commands.total);

@@ -1,8 +1,9 @@
 #pragma once
 
-// Broker loss to the zero frame: while a bridge drives the robot (its velocity on the bus),
-// the broker is killed (SIGKILL) and the time runs from just before kill() to the kernel
-// receive timestamp of the first 0x121 frame with zero velocity. The other bridges of the
+// Broker loss to the zero frame: while a bridge drives the robot (its velocity in the command
+// frames), the broker is killed (SIGKILL) and the time runs from just before kill() to the
+// first command frame with zero velocity (CommandFrames: on CAN the kernel's receive
+// timestamp of the 0x121 frame; on a serial line when it was read). The other bridges of the
 // same daemon are frozen (SIGSTOP) meanwhile, so that only the measured one can stop the
 // robot; the broker is restarted on the same port after each kill, and the next round
 // starts once the next bridge drives again (it has reconnected).
@@ -14,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "command_frames.hpp"
 #include "fleet_processes.hpp"
 
 namespace bench {
@@ -32,7 +34,7 @@ struct LossSeries {
 };
 
 // `rounds` kills per bridge, alternating which bridge goes first; the results in the order of `bridges`.
-std::vector<LossSeries> measure_broker_loss(Broker& broker, const std::string& interface,
+std::vector<LossSeries> measure_broker_loss(Broker& broker, CommandFrames& frames,
                                             const std::vector<BridgeUnderTest>& bridges, int rounds);
 
 }  // namespace bench

@@ -45,28 +45,35 @@ void Broker::start() {
 std::int64_t Broker::kill() {
   const std::int64_t before = realtime_ns();
   ::kill(process_->pid(), SIGKILL);
-  process_.reset();  // reaps it
   return before;
 }
 
-void Broker::restart() { start(); }
+void Broker::restart() {
+  process_.reset();  // reaps it
+  start();
+}
 
-Robot::Robot(const FleetPrograms& programs, std::filesystem::path directory, std::string name, std::string interface)
+Robot::Robot(const FleetPrograms& programs, std::filesystem::path directory, std::string name, ChassisLink link)
     : programs_(programs),
       directory_(std::move(directory)),
       name_(std::move(name)),
-      interface_(std::move(interface)),
       socket_(directory_ / "wheeltecd.sock") {
   std::filesystem::create_directories(directory_);
   // As the integration tests' Gateway configures the daemon.
-  const nlohmann::json daemon_config = {
-      {"can", {{"interface", interface_}, {"dialect", "manual"}}},
+  nlohmann::json daemon_config = {
       {"chassis", {{"type", "mecanum"}}},
       {"control", {{"rate_hz", 20}, {"command_timeout_s", 0.5}, {"enable_refresh_s", 1.0}}},
       {"telemetry", {{"timeout_s", 0.5}}},
       {"api", {{"socket", socket_.string()}}},
       {"log", {{"level", "warn"}}},
   };
+  if (const auto* can = std::get_if<CanLink>(&link)) {
+    interface_ = can->interface;
+    daemon_config["can"] = {{"interface", interface_}, {"dialect", "manual"}};
+  } else {
+    daemon_config["transport"] = "serial";
+    daemon_config["serial"] = {{"device", std::get<SerialLink>(link).device.string()}};
+  }
   std::ofstream(directory_ / "wheeltecd.json") << daemon_config.dump(2) << "\n";
   // stats every second, so that its counters are fresh at the end of each window.
   const nlohmann::json bridge_config = {{"stats", {{"period_s", 1}}},

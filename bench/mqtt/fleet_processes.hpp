@@ -2,7 +2,8 @@
 
 // The programs of the fleet under measurement: one mosquitto broker on 127.0.0.1, and per
 // robot a wheeltec-emu, a wheeltecd and a wheeltec-mqtt on its own vcan interface, each
-// with its files (configuration, socket, log) in a directory of its own.
+// with its files (configuration, socket, log) in a directory of its own. A robot may have its
+// chassis on a serial line instead, whose other end the benchmark plays: no emulator then.
 
 #include <sys/types.h>
 
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "child_program.hpp"
@@ -32,9 +34,10 @@ class Broker {
   Broker(const std::string& mosquitto, const std::filesystem::path& directory,
          const std::vector<std::string>& extra_config = {});
   int port() const { return port_; }
-  // SIGKILL, and the broker reaped; returns CLOCK_REALTIME (ns) taken just before kill().
+  // SIGKILL; returns CLOCK_REALTIME (ns) taken just before kill(). Not reaped here: reaping
+  // sleeps in steps of 10 ms, and a frame read from a pty meanwhile would be timed late.
   std::int64_t kill();
-  // Starts it again on the same port with the same configuration, and waits as at start-up.
+  // Reaps it, starts it again on the same port with the same configuration, and waits as at start-up.
   void restart();
   pid_t pid() const { return process_->pid(); }
   bool running() { return process_->running(); }
@@ -49,17 +52,25 @@ class Broker {
   std::unique_ptr<ChildProgram> process_;
 };
 
+struct CanLink {
+  std::string interface;  // with a wheeltec-emu on it
+};
+struct SerialLink {
+  std::filesystem::path device;  // a pty's slave, published by the benchmark that plays the controller
+};
+using ChassisLink = std::variant<CanLink, SerialLink>;
+
 class Robot {
  public:
-  Robot(const FleetPrograms& programs, std::filesystem::path directory, std::string name, std::string interface);
-  void start_emulator();
+  Robot(const FleetPrograms& programs, std::filesystem::path directory, std::string name, ChassisLink link);
+  void start_emulator();  // CAN only
   void start_daemon();  // returns once its socket accepts connections
   void start_bridge(int broker_port);
   // The Python reference bridge on the same daemon, with topics under PREFIX/`robot`.
   void start_paho_bridge(int broker_port, const std::string& robot);
 
   const std::string& name() const { return name_; }
-  const std::string& interface() const { return interface_; }
+  const std::string& interface() const { return interface_; }  // CAN only; empty on a serial line
   const std::filesystem::path& socket() const { return socket_; }
   ChildProgram& emulator() { return *emulator_; }
   ChildProgram& daemon() { return *daemon_; }

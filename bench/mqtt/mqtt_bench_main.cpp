@@ -14,6 +14,11 @@
 //  4. Scaling: N robots against one broker, one subscriber of PREFIX/+/telemetry: records
 //     delivered per second and lost, until loss appears or the virtual machine runs out.
 // Prints markdown tables on stdout and writes every figure as JSON (--json).
+//
+// --serial: one robot whose chassis is a serial line, natively (no vcan, no User-Mode Linux):
+// the benchmark plays the controller on a pseudo-terminal (bench/e2e's PtyEndpoint, records at
+// 20 Hz) in place of the emulator, and times the command frames when it reads them. The drives
+// (1, with the paho bridge and the broker's hop) and the broker loss run; 2-4 need the bus.
 
 #include <poll.h>
 #include <stdlib.h>
@@ -44,11 +49,13 @@
 #include "bench_figures.hpp"
 #include "broker_loss.hpp"
 #include "bus_observer.hpp"
-#include "can_endpoint.hpp"
+#include "command_frames.hpp"
 #include "fleet_processes.hpp"
 #include "latency_stats.hpp"
 #include "mqtt_endpoints.hpp"
 #include "process_profile.hpp"
+#include "pty_endpoint.hpp"
+#include "serial_chassis.hpp"
 #include "subscriber_set.hpp"
 
 namespace {
@@ -78,6 +85,7 @@ struct Settings {
   std::vector<std::string> broker_config;  // more lines of mosquitto.conf
   std::string strace;                      // given: system calls per record counted (bridge, broker)
   int loss_rounds = 5;                     // broker kills per bridge
+  bool serial = false;                     // r1's chassis on a pty played by the benchmark; no emulator
 };
 
 constexpr const char* kPahoRobot = "py1";  // the paho bridge's topics: same daemon as r1, topics of its own
@@ -88,11 +96,13 @@ void usage() {
                "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
                "       [--drive-interval-ms MS] [--robots 1,2,4,8,16] [--step-seconds S] [--keep-going]\n"
                "       [--operator-nodelay] [--broker-config 'MOSQUITTO.CONF LINE']... [--strace PATH]\n"
-               "       --paho-bridge bench/mqtt/paho_bridge.py [--python /usr/bin/python3] [--loss-rounds N]\n"
+               "       --paho-bridge bench/mqtt/paho_bridge.py [--python /usr/bin/python3] [--loss-rounds N] [--serial]\n"
                "The paho bridge (Python, paho-mqtt) drives r1's daemon as robot py1: the reference in the same run.\n"
                "Scaling: the steps of up to 8 robots (--quick: 2) always run; after them, a step that lost records or\n"
                "found the machine 95 % busy is the last (--keep-going: every step).\n"
-               "Runs where vcan0..vcanN-1 exist (scripts/vcan-run with VCAN_INTERFACES); see scripts/bench-mqtt.sh.\n";
+               "Runs where vcan0..vcanN-1 exist (scripts/vcan-run with VCAN_INTERFACES); see scripts/bench-mqtt.sh.\n"
+               "--serial: natively, one robot whose chassis is a pseudo-terminal played by the benchmark (no --emulator,\n"
+               "no vcan): the drives and the broker loss only.\n";
 }
 
 std::vector<int> parse_list(const std::string& text) {
@@ -120,8 +130,8 @@ Settings parse_arguments(int argc, char** argv) {
       s.quick = true;
       continue;
     }
-    if (key == "--keep-going" || key == "--operator-nodelay") {
-      (key == "--keep-going" ? s.keep_going : s.operator_nodelay) = true;
+    if (key == "--keep-going" || key == "--operator-nodelay" || key == "--serial") {
+      (key == "--keep-going" ? s.keep_going : key == "--serial" ? s.serial : s.operator_nodelay) = true;
       continue;
     }
     if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
@@ -153,9 +163,9 @@ Settings parse_arguments(int argc, char** argv) {
     s.run_all_up_to = 2;
     if (!loss_given) s.loss_rounds = 2;
   }
-  if (s.programs.wheeltecd.empty() || s.programs.emulator.empty() || s.programs.bridge.empty() ||
+  if (s.programs.wheeltecd.empty() || (s.programs.emulator.empty() && !s.serial) || s.programs.bridge.empty() ||
       s.programs.paho_bridge.empty()) {
-    throw std::invalid_argument("--wheeltecd, --emulator, --bridge and --paho-bridge are required");
+    throw std::invalid_argument("--wheeltecd, --emulator (except with --serial), --bridge and --paho-bridge are required");
   }
   if (s.drives < 2 || s.telemetry_s <= 0 || s.step_s <= 0) throw std::invalid_argument("nothing to measure");
   return s;
@@ -163,6 +173,8 @@ Settings parse_arguments(int argc, char** argv) {
 
 std::string robot_name(std::size_t index) { return "r" + std::to_string(index + 1); }
 std::string interface_name(std::size_t index) { return "vcan" + std::to_string(index); }
+// Where the benchmark publishes the pty whose controller it plays (--serial).
+fs::path serial_device(const fs::path& work) { return work / "wheeltec_controller"; }
 
 void sleep_ms(double ms) { std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(ms * 1000))); }
 
@@ -320,8 +332,8 @@ void wait_for_stop_reply(Receipts& receipts, const std::string& id) {
   }
 }
 
-DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_port, Receipts& receipts) {
-  CanEndpoint control(robot.interface(), {0x121});
+DriveResults measure_drives(const Settings& settings, Robot& robot, CommandFrames& frames, int broker_port,
+                            Receipts& receipts) {
   MqttPublisher publisher("127.0.0.1", broker_port, "wheeltec-bench-operator", settings.operator_nodelay);
   const std::string drive_topic = fmt::format("{}/{}/cmd/drive", kPrefix, robot.name());
   const std::string stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, robot.name());
@@ -332,13 +344,13 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
   const std::string paho_stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, kPahoRobot);
   auto next_mm = [](int& mm, int base) { return mm = base + (mm - base + 1) % 100; };
 
-  // A drive published on a bridge's topic, timed to its frame on the bus.
+  // A drive published on a bridge's topic, timed to its command frame.
   auto drive_through = [&](const std::string& topic, int& mm, int base, DriveSeries& series, bool counted) {
     next_mm(mm, base);
-    drain(control);
+    frames.drain();
     const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", mm / 1000.0, ++id);
     const std::int64_t sent = publisher.publish(topic, payload);
-    const auto frame = wait_for_control_frame(control, mm);
+    const auto frame = frames.first_with(mm);
     if (counted) {
       if (frame) series.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
       else ++series.missed;
@@ -371,19 +383,19 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, int broker_p
   auto paho_drive = [&](bool counted) { drive_through(paho_drive_topic, mm_paho, 200, results.paho, counted); };
   // The paho bridge has no replies on MQTT: its stop is seen on the bus.
   auto paho_stop = [&] {
-    drain(control);
+    frames.drain();
     publisher.publish(paho_stop_topic, "{}");
-    wait_for_control_frame(control, 0);
+    frames.first_with(0);
     publisher.service();
   };
   auto direct_drive = [&](LineClient& client, bool counted) {
     const int mm = next_mm(mm_direct, 100);
-    drain(control);
+    frames.drain();
     const std::string line = fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{:.3f}}}}})",
                                          ++id, mm / 1000.0);
     const std::int64_t sent = realtime_ns();
     client.send_line(line);
-    const auto frame = wait_for_control_frame(control, mm);
+    const auto frame = frames.first_with(mm);
     const std::string reply = client.read_line(2000);
     if (reply.find("\"result\"") == std::string::npos && results.first_errors.size() < 5) {
       results.first_errors.push_back("direct drive: " + reply);
@@ -463,10 +475,12 @@ struct Fleet {
 void grow_fleet(const Settings& settings, Fleet& fleet, std::size_t count, const fs::path& work, Receipts& receipts) {
   const std::size_t first = fleet.robots.size();
   for (std::size_t i = first; i < count; ++i) {
-    fleet.robots.push_back(
-        std::make_unique<Robot>(settings.programs, work / robot_name(i), robot_name(i), interface_name(i)));
+    const ChassisLink link = settings.serial ? ChassisLink{SerialLink{serial_device(work)}} : CanLink{interface_name(i)};
+    fleet.robots.push_back(std::make_unique<Robot>(settings.programs, work / robot_name(i), robot_name(i), link));
   }
-  for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_emulator();
+  if (!settings.serial) {
+    for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_emulator();
+  }
   for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_daemon();
   for (std::size_t i = first; i < count; ++i) fleet.robots[i]->start_bridge(fleet.broker->port());
   if (first == 0) fleet.robots[0]->start_paho_bridge(fleet.broker->port(), kPahoRobot);
@@ -479,41 +493,18 @@ void grow_fleet(const Settings& settings, Fleet& fleet, std::size_t count, const
   }
 }
 
-// Everything that runs: the programs end (in reverse order of their start) when it returns.
-int measure(const Settings& settings, const fs::path& work) {
-  const auto started = std::chrono::steady_clock::now();
-  json out;
-  json errors = json::array();
-  out["machine"] = {{"cpus", std::thread::hardware_concurrency()},
-                    {"user_mode_linux", std::getenv("VCAN_RUN_IN_UML") != nullptr},
-                    {"load_average_at_start", load_average()}};
-  out["settings"] = {{"quick", settings.quick},
-                     {"telemetry_seconds", settings.telemetry_s},
-                     {"drives", settings.drives},
-                     {"drive_block", settings.drive_block},
-                     {"drive_interval_ms", settings.drive_interval_ms},
-                     {"robots", settings.robots},
-                     {"run_all_up_to", settings.run_all_up_to},
-                     {"step_seconds", settings.step_s},
-                     {"operator_nodelay", settings.operator_nodelay},
-                     {"broker_config", settings.broker_config}};
+// ---- 1 robot on CAN: telemetry latency, CPU and system calls per record ----
 
-  Fleet fleet;
-  fleet.broker = std::make_unique<Broker>(settings.programs.mosquitto, work, settings.broker_config);
-  MqttSubscriber subscriber("127.0.0.1", fleet.broker->port(), "wheeltec-bench-subscriber",
-                            {std::string(kPrefix) + "/+/telemetry", std::string(kPrefix) + "/+/stats",
-                             std::string(kPrefix) + "/+/cmd/result"});
-  Receipts receipts(subscriber);
-  grow_fleet(settings, fleet, 1, work, receipts);
+struct TelemetryFigures {
+  json telemetry, cpu, syscalls;
+  TelemetryMatch via_mqtt, direct;
+  std::size_t published = 0;  // records the bridge published in the window: those received in it
+  double window_s = 0;
+};
+
+TelemetryFigures measure_telemetry(const Settings& settings, Fleet& fleet, BusObserver& observer, Receipts& receipts,
+                                   const fs::path& work, json& errors) {
   Robot& r1 = *fleet.robots[0];
-
-  std::vector<std::string> interfaces;
-  const int most = *std::max_element(settings.robots.begin(), settings.robots.end());
-  for (int i = 0; i < most; ++i) interfaces.push_back(interface_name(static_cast<std::size_t>(i)));
-  BusObserver observer(interfaces, r1.socket());
-  receipts.wait(1000);
-
-  // ---- 1 robot: telemetry latency and CPU per record, nobody driving ----
   std::cerr << "wheeltec-bench-mqtt: telemetry, 1 robot, " << settings.telemetry_s << " s\n";
   const std::int64_t t0 = realtime_ns();
   const double bridge0 = cpu_s(r1.bridge().pid()), daemon0 = cpu_s(r1.daemon().pid()),
@@ -579,55 +570,13 @@ int measure(const Settings& settings, const fs::path& work) {
                 {"mosquitto_per_record", per_record(broker_counts)}};
     if (records == 0) errors.push_back("no telemetry record while the system calls were counted");
   }
+  return {std::move(telemetry), std::move(cpu), std::move(syscalls), via_mqtt, direct, published, window_s};
+}
 
-  // ---- 1 robot: drives, over the broker and on the daemon's socket ----
-  std::cerr << "wheeltec-bench-mqtt: " << settings.drives << " drives over MQTT and as many on the daemon's socket\n";
-  const std::int64_t d0 = realtime_ns();
-  const DriveResults drives = measure_drives(settings, r1, fleet.broker->port(), receipts);
-  const std::int64_t d1 = realtime_ns();
-  receipts.wait(500);
-  const TelemetryMatch while_driving =
-      match_records(observer.record_frames(0), pairs_of(receipts.robot(r1.name()).telemetry), d0, d1);
-  telemetry["via_mqtt_while_driving"] = match_json(while_driving, true);
-  const auto p50_of = [](const DriveSeries& series) { return summarize(series.latency_us).p50_us; };
-  const auto per_drive_us = [](double cpu_s, const DriveSeries& series) {
-    const auto n = series.latency_us.size() + static_cast<std::size_t>(series.missed);
-    return n == 0 ? 0.0 : cpu_s / static_cast<double>(n) * 1e6;
-  };
-  json drive_json = {{"via_mqtt", drives.mqtt.to_json()},
-                     {"via_paho_bridge", drives.paho.to_json()},
-                     {"direct_wheeltecd", drives.direct.to_json()},
-                     {"broker_hop", drives.broker_hop.to_json()},
-                     // what each bridge adds at p50: broker -> bus minus the daemon's socket -> bus
-                     {"added_p50_us",
-                      {{"wheeltec_mqtt", p50_of(drives.mqtt) - p50_of(drives.direct)},
-                       {"paho_bridge", p50_of(drives.paho) - p50_of(drives.direct)}}},
-                     {"cpu_us_per_drive",
-                      {{"wheeltec_mqtt", per_drive_us(drives.mqtt_cpu_s, drives.mqtt)},
-                       {"paho_bridge", per_drive_us(drives.paho_cpu_s, drives.paho)}}},
-                     {"mqtt_error_replies", drives.mqtt_error_replies},
-                     {"first_errors", drives.first_errors}};
-  if (drives.mqtt.latency_us.empty()) errors.push_back("no drive over MQTT reached the bus");
-  if (drives.direct.latency_us.empty()) errors.push_back("no drive on the daemon's socket reached the bus");
-  if (drives.paho.latency_us.empty()) errors.push_back("no drive through the paho bridge reached the bus");
+// ---- scaling: N robots on CAN, one subscriber of PREFIX/+/telemetry ----
 
-  // ---- broker loss -> zero frame, each bridge in turn ----
-  std::cerr << "wheeltec-bench-mqtt: broker loss, " << settings.loss_rounds << " kills per bridge\n";
-  const std::vector<BridgeUnderTest> under_test{
-      {"wheeltec-mqtt", fmt::format("{}/{}/cmd/drive", kPrefix, r1.name()), r1.bridge().pid()},
-      {"paho bridge", fmt::format("{}/{}/cmd/drive", kPrefix, kPahoRobot), r1.paho_bridge().pid()}};
-  const std::vector<LossSeries> losses =
-      measure_broker_loss(*fleet.broker, r1.interface(), under_test, settings.loss_rounds);
-  const json loss_json = {{"wheeltec_mqtt", losses[0].to_json()}, {"paho_bridge", losses[1].to_json()}};
-  for (std::size_t i = 0; i < losses.size(); ++i) {
-    if (losses[i].ms.empty()) errors.push_back("broker loss: no zero frame timed for " + under_test[i].name);
-  }
-  for (auto& name : r1.ended()) errors.push_back("after the broker kills: " + name + " ended");
-  // The subscriber reconnects by itself (libmosquitto's loop thread, 1 s) before the scaling steps.
-  for (int i = 0; i < 100 && !subscriber.connected(); ++i) receipts.wait(100);
-  receipts.wait(1500);
-
-  // ---- scaling: N robots, one subscriber of PREFIX/+/telemetry ----
+json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observer, Receipts& receipts,
+                     const fs::path& work, json& errors) {
   json steps = json::array();
   for (const int n : settings.robots) {
     const auto count = static_cast<std::size_t>(n);
@@ -752,24 +701,144 @@ int measure(const Settings& settings, const fs::path& work) {
     const bool lossy = all.lost() > 0 || dropped > 0 || all.on_bus + 0.5 * kTelemetryHz * n < expected;
     if ((lossy || busy_pct >= 95.0) && n >= settings.run_all_up_to && !settings.keep_going) break;
   }
+  return steps;
+}
 
-  out["telemetry"] = telemetry;
-  out["cpu_per_record"] = cpu;
-  if (!syscalls.is_null()) out["syscalls_per_record"] = syscalls;
+// Everything that runs: the programs end (in reverse order of their start) when it returns.
+int measure(const Settings& settings, const fs::path& work) {
+  const auto started = std::chrono::steady_clock::now();
+  json out;
+  json errors = json::array();
+  out["machine"] = {{"cpus", std::thread::hardware_concurrency()},
+                    {"user_mode_linux", std::getenv("VCAN_RUN_IN_UML") != nullptr},
+                    {"load_average_at_start", load_average()}};
+  out["settings"] = {{"quick", settings.quick},
+                     {"telemetry_seconds", settings.telemetry_s},
+                     {"drives", settings.drives},
+                     {"drive_block", settings.drive_block},
+                     {"drive_interval_ms", settings.drive_interval_ms},
+                     {"robots", settings.robots},
+                     {"run_all_up_to", settings.run_all_up_to},
+                     {"step_seconds", settings.step_s},
+                     {"operator_nodelay", settings.operator_nodelay},
+                     {"broker_config", settings.broker_config}};
+  if (settings.serial) {
+    out["machine"]["chassis_link"] =
+        "serial: a pseudo-terminal whose controller is the benchmark; command frames timed when read (no receive timestamp)";
+  }
+
+  Fleet fleet;
+  fleet.broker = std::make_unique<Broker>(settings.programs.mosquitto, work, settings.broker_config);
+  MqttSubscriber subscriber("127.0.0.1", fleet.broker->port(), "wheeltec-bench-subscriber",
+                            {std::string(kPrefix) + "/+/telemetry", std::string(kPrefix) + "/+/stats",
+                             std::string(kPrefix) + "/+/cmd/result"});
+  Receipts receipts(subscriber);
+  // On a serial line the benchmark is r1's controller: records at 20 Hz keep the chassis online.
+  std::optional<PtyEndpoint> line;
+  std::optional<RecordStream> records;
+  if (settings.serial) {
+    line.emplace(serial_device(work));
+    records.emplace(*line);
+  }
+  grow_fleet(settings, fleet, 1, work, receipts);
+  Robot& r1 = *fleet.robots[0];
+  if (settings.serial) wait_until_ready(r1.socket(), r1.daemon());
+  const auto command_frames = [&]() -> std::unique_ptr<CommandFrames> {
+    if (line) return std::make_unique<PtyCommandFrames>(*line);
+    return std::make_unique<CanCommandFrames>(r1.interface());
+  };
+
+  // The telemetry figures and the scaling need the bus's 0x103 timestamps: CAN only.
+  std::unique_ptr<BusObserver> observer;
+  TelemetryFigures figures;
+  if (!settings.serial) {
+    std::vector<std::string> interfaces;
+    const int most = *std::max_element(settings.robots.begin(), settings.robots.end());
+    for (int i = 0; i < most; ++i) interfaces.push_back(interface_name(static_cast<std::size_t>(i)));
+    observer = std::make_unique<BusObserver>(interfaces, r1.socket());
+    receipts.wait(1000);
+    figures = measure_telemetry(settings, fleet, *observer, receipts, work, errors);
+  }
+  json& telemetry = figures.telemetry;
+
+  // ---- 1 robot: drives, over the broker and on the daemon's socket ----
+  std::cerr << "wheeltec-bench-mqtt: " << settings.drives << " drives over MQTT and as many on the daemon's socket\n";
+  const std::int64_t d0 = realtime_ns();
+  const DriveResults drives = measure_drives(settings, r1, *command_frames(), fleet.broker->port(), receipts);
+  const std::int64_t d1 = realtime_ns();
+  receipts.wait(500);
+  TelemetryMatch while_driving;
+  if (observer) {
+    while_driving = match_records(observer->record_frames(0), pairs_of(receipts.robot(r1.name()).telemetry), d0, d1);
+    telemetry["via_mqtt_while_driving"] = match_json(while_driving, true);
+  }
+  const auto p50_of = [](const DriveSeries& series) { return summarize(series.latency_us).p50_us; };
+  const auto per_drive_us = [](double cpu_s, const DriveSeries& series) {
+    const auto n = series.latency_us.size() + static_cast<std::size_t>(series.missed);
+    return n == 0 ? 0.0 : cpu_s / static_cast<double>(n) * 1e6;
+  };
+  json drive_json = {{"via_mqtt", drives.mqtt.to_json()},
+                     {"via_paho_bridge", drives.paho.to_json()},
+                     {"direct_wheeltecd", drives.direct.to_json()},
+                     {"broker_hop", drives.broker_hop.to_json()},
+                     // what each bridge adds at p50: broker -> bus minus the daemon's socket -> bus
+                     {"added_p50_us",
+                      {{"wheeltec_mqtt", p50_of(drives.mqtt) - p50_of(drives.direct)},
+                       {"paho_bridge", p50_of(drives.paho) - p50_of(drives.direct)}}},
+                     {"cpu_us_per_drive",
+                      {{"wheeltec_mqtt", per_drive_us(drives.mqtt_cpu_s, drives.mqtt)},
+                       {"paho_bridge", per_drive_us(drives.paho_cpu_s, drives.paho)}}},
+                     {"mqtt_error_replies", drives.mqtt_error_replies},
+                     {"first_errors", drives.first_errors}};
+  if (drives.mqtt.latency_us.empty()) errors.push_back("no drive over MQTT reached the bus");
+  if (drives.direct.latency_us.empty()) errors.push_back("no drive on the daemon's socket reached the bus");
+  if (drives.paho.latency_us.empty()) errors.push_back("no drive through the paho bridge reached the bus");
+
+  // ---- broker loss -> zero frame, each bridge in turn ----
+  std::cerr << "wheeltec-bench-mqtt: broker loss, " << settings.loss_rounds << " kills per bridge\n";
+  const std::vector<BridgeUnderTest> under_test{
+      {"wheeltec-mqtt", fmt::format("{}/{}/cmd/drive", kPrefix, r1.name()), r1.bridge().pid()},
+      {"paho bridge", fmt::format("{}/{}/cmd/drive", kPrefix, kPahoRobot), r1.paho_bridge().pid()}};
+  const std::vector<LossSeries> losses =
+      measure_broker_loss(*fleet.broker, *command_frames(), under_test, settings.loss_rounds);
+  const json loss_json = {{"wheeltec_mqtt", losses[0].to_json()}, {"paho_bridge", losses[1].to_json()}};
+  for (std::size_t i = 0; i < losses.size(); ++i) {
+    if (losses[i].ms.empty()) errors.push_back("broker loss: no zero frame timed for " + under_test[i].name);
+  }
+  for (auto& name : r1.ended()) errors.push_back("after the broker kills: " + name + " ended");
+  if (records && records->failure()) errors.push_back("the chassis' records stopped: " + *records->failure());
+  // The subscriber reconnects by itself (libmosquitto's loop thread, 1 s) before the scaling steps.
+  for (int i = 0; i < 100 && !subscriber.connected(); ++i) receipts.wait(100);
+  receipts.wait(1500);
+
+  const json steps = observer ? measure_scaling(settings, fleet, *observer, receipts, work, errors) : json::array();
+
+  const json& cpu = figures.cpu;
+  const json& syscalls = figures.syscalls;
+  if (!settings.serial) {
+    out["telemetry"] = telemetry;
+    out["cpu_per_record"] = cpu;
+    if (!syscalls.is_null()) out["syscalls_per_record"] = syscalls;
+  }
   out["drives"] = drive_json;
   out["broker_loss"] = loss_json;
-  out["scaling"] = steps;
+  if (!settings.serial) out["scaling"] = steps;
   out["errors"] = errors;
   out["load_average_at_end"] = load_average();
   out["elapsed_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   // ---- the tables ----
-  std::cout << "| wheeltec-mqtt, 1 robot (" << (out["machine"]["user_mode_linux"].get<bool>() ? "User-Mode Linux, " : "")
+  const std::string frame = settings.serial ? "command frame" : "0x121 frame";
+  const std::string link = settings.serial ? "line" : "bus";
+  const std::string where = settings.serial                                   ? "serial line on a pseudo-terminal, native, "
+                            : out["machine"]["user_mode_linux"].get<bool>() ? "User-Mode Linux, "
+                                                                             : "";
+  std::cout << "| wheeltec-mqtt, 1 robot (" << where
             << "1 broker, 1 subscriber) | p50 / p99 (us) | n | lost or missed |\n|---|---|---|---|\n";
-  std::cout << "| drive published on the broker -> first 0x121 frame with its velocity | "
+  std::cout << "| drive published on the broker -> first " << frame << " with its velocity | "
             << p50_p99(drive_json["via_mqtt"]) << " | " << drive_json["via_mqtt"]["count"] << " | "
             << drives.mqtt.missed << " |\n";
-  std::cout << "| drive published on the broker -> first 0x121 frame, through the paho-mqtt bridge (Python) | "
+  std::cout << "| drive published on the broker -> first " << frame << ", through the paho-mqtt bridge (Python) | "
             << p50_p99(drive_json["via_paho_bridge"]) << " | " << drive_json["via_paho_bridge"]["count"] << " | "
             << drives.paho.missed << " |\n";
   std::cout << "| reference: drive written on wheeltecd's socket -> frame (same blocks, alternating) | "
@@ -779,17 +848,20 @@ int measure(const Settings& settings, const fs::path& work) {
                "bridges' figures; same blocks) | "
             << p50_p99(drive_json["broker_hop"]) << " | " << drive_json["broker_hop"]["count"] << " | "
             << drives.broker_hop.missed << " |\n";
-  std::cout << "| 0x103 frame on the bus -> record at the MQTT subscriber, nobody driving | "
-            << p50_p99(telemetry["via_mqtt"]) << " | " << telemetry["via_mqtt"]["count"] << " | " << via_mqtt.lost()
-            << " of " << via_mqtt.on_bus << " |\n";
-  std::cout << "| reference: 0x103 frame -> notification at a direct wheeltecd subscriber | "
-            << p50_p99(telemetry["direct_wheeltecd_subscriber"]) << " | "
-            << telemetry["direct_wheeltecd_subscriber"]["count"] << " | " << direct.lost() << " of " << direct.on_bus
-            << " |\n";
-  std::cout << "| 0x103 frame -> MQTT subscriber, while driving (" << us(1000.0 / settings.drive_interval_ms)
-            << " drives/s) | " << p50_p99(telemetry["via_mqtt_while_driving"]) << " | "
-            << telemetry["via_mqtt_while_driving"]["count"] << " | " << while_driving.lost() << " of "
-            << while_driving.on_bus << " |\n\n";
+  if (!settings.serial) {
+    std::cout << "| 0x103 frame on the bus -> record at the MQTT subscriber, nobody driving | "
+              << p50_p99(telemetry["via_mqtt"]) << " | " << telemetry["via_mqtt"]["count"] << " | " << figures.via_mqtt.lost()
+              << " of " << figures.via_mqtt.on_bus << " |\n";
+    std::cout << "| reference: 0x103 frame -> notification at a direct wheeltecd subscriber | "
+              << p50_p99(telemetry["direct_wheeltecd_subscriber"]) << " | "
+              << telemetry["direct_wheeltecd_subscriber"]["count"] << " | " << figures.direct.lost() << " of " << figures.direct.on_bus
+              << " |\n";
+    std::cout << "| 0x103 frame -> MQTT subscriber, while driving (" << us(1000.0 / settings.drive_interval_ms)
+              << " drives/s) | " << p50_p99(telemetry["via_mqtt_while_driving"]) << " | "
+              << telemetry["via_mqtt_while_driving"]["count"] << " | " << while_driving.lost() << " of "
+              << while_driving.on_bus << " |\n";
+  }
+  std::cout << "\n";
   {
     const double added_mqtt = drive_json["added_p50_us"]["wheeltec_mqtt"].get<double>();
     const double added_paho = drive_json["added_p50_us"]["paho_bridge"].get<double>();
@@ -797,14 +869,14 @@ int measure(const Settings& settings, const fs::path& work) {
     std::cout << fmt::format(
         "| drives, wheeltec-mqtt against the paho bridge (same daemon, same broker, alternating blocks) | wheeltec-mqtt | "
         "paho bridge |\n|---|---|---|\n"
-        "| added at p50: broker -> bus minus the daemon's socket -> bus (us) | {:.0f} | {:.0f} |\n"
+        "| added at p50: broker -> {} minus the daemon's socket -> {} (us) | {:.0f} | {:.0f} |\n"
         "| wheeltec-mqtt's added / the paho bridge's | {:.2f} | |\n"
         "| the broker's hop at p50, in both (us) | {:.0f} | {:.0f} |\n"
         "| added minus the broker's hop: the bridge's own part (us) | {:.0f} | {:.0f} |\n"
         "| the ratio if wheeltec-mqtt's own part were zero: hop / the paho bridge's added | {:.2f} | |\n"
         "| CPU per drive over its blocks (utime+stime, tick-sampled; wheeltec-mqtt's includes its telemetry) (us) | "
         "{:.0f} | {:.0f} |\n",
-        added_mqtt, added_paho, added_paho > 0 ? added_mqtt / added_paho : 0.0, hop, hop, added_mqtt - hop,
+        link, link, added_mqtt, added_paho, added_paho > 0 ? added_mqtt / added_paho : 0.0, hop, hop, added_mqtt - hop,
         added_paho - hop, added_paho > 0 ? hop / added_paho : 0.0,
         drive_json["cpu_us_per_drive"]["wheeltec_mqtt"].get<double>(),
         drive_json["cpu_us_per_drive"]["paho_bridge"].get<double>());
@@ -814,50 +886,57 @@ int measure(const Settings& settings, const fs::path& work) {
       return fmt::format("{:.1f} / {:.1f} ({}; {} missed)", series["p50_us"].get<double>() / 1e3,
                          series["max_us"].get<double>() / 1e3, rounds, series["missed"].get<int>());
     };
-    std::cout << "| broker SIGKILLed while driving -> first zero 0x121 frame, ms: p50 / max (each round) | "
+    std::cout << "| broker SIGKILLed while driving -> first zero " << frame << ", ms: p50 / max (each round) | "
               << loss_cell(loss_json["wheeltec_mqtt"]) << " | " << loss_cell(loss_json["paho_bridge"]) << " |\n\n";
   }
-  std::cout << fmt::format(
-      "| CPU per record, {:.0f} s at 20 Hz, {} records (utime+stime, tick-sampled) | us |\n|---|---|\n"
-      "| wheeltec-mqtt | {:.0f} |\n| wheeltecd | {:.0f} |\n| mosquitto | {:.0f} |\n| wheeltec-emu | {:.0f} |\n"
-      "| machine busy (% of its CPUs) | {:.1f} % |\n\n",
-      window_s, published, cpu["bridge_us_per_record"].get<double>(), cpu["wheeltecd_us_per_record"].get<double>(),
-      cpu["mosquitto_us_per_record"].get<double>(), cpu["emulator_us_per_record"].get<double>(),
-      cpu["machine_busy_pct"].get<double>());
-  if (!syscalls.is_null()) {
-    auto listing = [](const json& per_record) {
-      std::vector<std::pair<double, std::string>> calls;
-      for (const auto& [name, value] : per_record.items()) {
-        if (name != "total" && value.get<double>() >= 0.05) calls.emplace_back(value.get<double>(), name);
-      }
-      std::sort(calls.rbegin(), calls.rend());
-      std::string text;
-      for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
-      return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
-    };
-    std::cout << fmt::format("| system calls per record (strace -c -f, {:.0f} s, {} records, stats every 1 s included) | |\n"
-                             "|---|---|\n| wheeltec-mqtt | {} |\n| mosquitto | {} |\n\n",
-                             syscalls["seconds"].get<double>(), syscalls["records"].get<std::size_t>(),
-                             listing(syscalls["bridge_per_record"]), listing(syscalls["mosquitto_per_record"]));
-  }
-  std::cout << "| robots | s | expected (20 Hz) | on the bus | delivered | lost: not accepted by wheeltecd / after it | "
-               "bridges' telemetry_dropped | "
-               "records/s at the subscriber | latency p50 / p99 (us) | bridge CPU per record (us) | "
-               "bridges / wheeltecds / emulators / mosquitto (% of a core) | machine busy |\n"
-               "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& step : steps) {
-    const auto unclassified = step["lost_unclassified"].get<std::size_t>();
-    std::cout << fmt::format("| {} | {:.1f} | {:.0f} | {} | {} | {}: {} / {}{} | {} | {:.1f} | {} | {:.0f} | {:.1f} / {:.1f} / {:.1f} / {:.1f} | {:.0f} % |\n",
-                             step["robots"].get<int>(), step["seconds"].get<double>(), step["expected"].get<double>(),
-                             step["on_bus"].get<std::size_t>(), step["delivered"].get<std::size_t>(),
-                             step["lost"].get<std::size_t>(), step["lost_not_accepted_by_wheeltecd"].get<std::size_t>(),
-                             step["lost_after_wheeltecd"].get<std::size_t>(),
-                             unclassified == 0 ? std::string() : fmt::format(" (+{} unclassified)", unclassified),
-                             step["telemetry_dropped"].get<std::uint64_t>(),
-                             step["records_per_s"].get<double>(), p50_p99(step),
-                             step["bridges_us_per_record"].get<double>(), step["bridges_cpu_pct"].get<double>(),
-                             step["wheeltecds_cpu_pct"].get<double>(), step["emulators_cpu_pct"].get<double>(),
-                             step["mosquitto_cpu_pct"].get<double>(), step["machine_busy_pct"].get<double>());
+  if (settings.serial) {
+    std::cout << "A pty has no receive timestamp: each command frame is timed when the benchmark read it from the master "
+                 "(its own wakeup included), where on CAN the kernel stamps it.\n\n"
+                 "Skipped on the serial line: the telemetry latency (2: it matches records to the bus' 0x103 "
+                 "timestamps), the CPU and system calls per record (3) and the scaling (4: one robot).\n";
+  } else {
+    std::cout << fmt::format(
+        "| CPU per record, {:.0f} s at 20 Hz, {} records (utime+stime, tick-sampled) | us |\n|---|---|\n"
+        "| wheeltec-mqtt | {:.0f} |\n| wheeltecd | {:.0f} |\n| mosquitto | {:.0f} |\n| wheeltec-emu | {:.0f} |\n"
+        "| machine busy (% of its CPUs) | {:.1f} % |\n\n",
+        figures.window_s, figures.published, cpu["bridge_us_per_record"].get<double>(), cpu["wheeltecd_us_per_record"].get<double>(),
+        cpu["mosquitto_us_per_record"].get<double>(), cpu["emulator_us_per_record"].get<double>(),
+        cpu["machine_busy_pct"].get<double>());
+    if (!syscalls.is_null()) {
+      auto listing = [](const json& per_record) {
+        std::vector<std::pair<double, std::string>> calls;
+        for (const auto& [name, value] : per_record.items()) {
+          if (name != "total" && value.get<double>() >= 0.05) calls.emplace_back(value.get<double>(), name);
+        }
+        std::sort(calls.rbegin(), calls.rend());
+        std::string text;
+        for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
+        return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
+      };
+      std::cout << fmt::format("| system calls per record (strace -c -f, {:.0f} s, {} records, stats every 1 s included) | |\n"
+                               "|---|---|\n| wheeltec-mqtt | {} |\n| mosquitto | {} |\n\n",
+                               syscalls["seconds"].get<double>(), syscalls["records"].get<std::size_t>(),
+                               listing(syscalls["bridge_per_record"]), listing(syscalls["mosquitto_per_record"]));
+    }
+    std::cout << "| robots | s | expected (20 Hz) | on the bus | delivered | lost: not accepted by wheeltecd / after it | "
+                 "bridges' telemetry_dropped | "
+                 "records/s at the subscriber | latency p50 / p99 (us) | bridge CPU per record (us) | "
+                 "bridges / wheeltecds / emulators / mosquitto (% of a core) | machine busy |\n"
+                 "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& step : steps) {
+      const auto unclassified = step["lost_unclassified"].get<std::size_t>();
+      std::cout << fmt::format("| {} | {:.1f} | {:.0f} | {} | {} | {}: {} / {}{} | {} | {:.1f} | {} | {:.0f} | {:.1f} / {:.1f} / {:.1f} / {:.1f} | {:.0f} % |\n",
+                               step["robots"].get<int>(), step["seconds"].get<double>(), step["expected"].get<double>(),
+                               step["on_bus"].get<std::size_t>(), step["delivered"].get<std::size_t>(),
+                               step["lost"].get<std::size_t>(), step["lost_not_accepted_by_wheeltecd"].get<std::size_t>(),
+                               step["lost_after_wheeltecd"].get<std::size_t>(),
+                               unclassified == 0 ? std::string() : fmt::format(" (+{} unclassified)", unclassified),
+                               step["telemetry_dropped"].get<std::uint64_t>(),
+                               step["records_per_s"].get<double>(), p50_p99(step),
+                               step["bridges_us_per_record"].get<double>(), step["bridges_cpu_pct"].get<double>(),
+                               step["wheeltecds_cpu_pct"].get<double>(), step["emulators_cpu_pct"].get<double>(),
+                               step["mosquitto_cpu_pct"].get<double>(), step["machine_busy_pct"].get<double>());
+    }
   }
   if (!errors.empty()) {
     std::cout << "\nErrors:\n";

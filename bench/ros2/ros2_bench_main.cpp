@@ -447,7 +447,7 @@ int measure(const Settings& settings, const fs::path& work) {
     ::unsetenv(name);
   }
 
-  Robot robot(settings.programs, work / "r1", "r1", kInterface);
+  Robot robot(settings.programs, work / "r1", "r1", CanLink{kInterface});
   robot.start_emulator();
   robot.start_daemon();
   const fs::path bridge_config = work / "r1" / "wheeltec-ros2.json";

@@ -2,7 +2,8 @@
 # Test stage: the benchmarks still build and run. Each microbenchmark runs for a few
 # milliseconds and must not report an error, the serial-link benchmark runs once in its quick
 # mode (natively, on a pseudo-terminal), and the wheeltec-mqtt, wheeltec-ros2 and wheeltec-web
-# benchmarks run once in their quick modes (inside scripts/vcan-run); each must report its
+# benchmarks run once in their quick modes (inside scripts/vcan-run; wheeltec-mqtt's also once
+# natively on a pseudo-terminal); each must report its
 # figures. Nothing is timed or compared here (the figures come from scripts/bench.sh,
 # scripts/bench-mqtt.sh, scripts/bench-ros2.sh and scripts/bench-web.sh, see docs/performance.md).
 set -euo pipefail
@@ -101,6 +102,34 @@ if problems:
 print(f"bench smoke: wheeltec-mqtt benchmark ran ({m['elapsed_s']:.0f} s inside the VM; "
       f"{len(m['scaling'])} scaling steps)")
 PY
+
+# Its serial mode (about 20 s, natively: the benchmark plays the chassis on a pseudo-terminal):
+# the drives of both bridges and on the daemon's socket, the broker's hop and the broker losses.
+mqtt_serial_out=$(mktemp -d)
+if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$mqtt_serial_out "$REPO_ROOT/scripts/bench-mqtt.sh" --serial --quick \
+    >"$mqtt_serial_out/output.txt" 2>&1; then
+  cat "$mqtt_serial_out/output.txt" >&2
+  echo "bench smoke: scripts/bench-mqtt.sh --serial --quick failed" >&2
+  exit 1
+fi
+python3 - "$mqtt_serial_out/mqtt.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+problems = list(m.get("errors", []))
+figures = {
+    "drives over MQTT": m["drives"]["via_mqtt"]["count"],
+    "drives on the daemon's socket": m["drives"]["direct_wheeltecd"]["count"],
+    "drives through the paho bridge": m["drives"]["via_paho_bridge"]["count"],
+    "broker hops timed": m["drives"]["broker_hop"]["count"],
+    "broker losses timed for wheeltec-mqtt": len(m["broker_loss"]["wheeltec_mqtt"]["rounds_ms"]),
+    "broker losses timed for the paho bridge": len(m["broker_loss"]["paho_bridge"]["rounds_ms"]),
+}
+problems += [f"no {name}" for name, value in figures.items() if not value]
+if problems:
+    sys.exit("bench smoke: wheeltec-mqtt benchmark on the serial line: " + "; ".join(problems))
+print("bench smoke: wheeltec-mqtt benchmark ran on the serial line (natively)")
+PY
+rm -rf "$mqtt_serial_out"
 
 # The wheeltec-ros2 benchmark's quick mode (about 45 s): cmd_vel and odom latencies against a
 # Fast DDS peer, next to the daemon's own, and the bridge's CPU per record and memory. Every
