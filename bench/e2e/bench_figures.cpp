@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <exception>
+#include <cstdlib>
 #include <fstream>
+#include <thread>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -81,6 +83,12 @@ std::string load_average() {
   std::string a, b, c;
   in >> a >> b >> c;
   return a + " " + b + " " + c;
+}
+
+nlohmann::json machine_json() {
+  return {{"cpus", std::thread::hardware_concurrency()},
+          {"user_mode_linux", std::getenv("VCAN_RUN_IN_UML") != nullptr},
+          {"load_average_at_start", load_average()}};
 }
 
 std::string p50_p99(const nlohmann::json& summary) {

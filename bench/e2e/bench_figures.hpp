@@ -44,6 +44,8 @@ double busy_pct(const MachineCpu& a, const MachineCpu& b);
 double cpu_s(pid_t pid);
 // /proc/loadavg's three figures.
 std::string load_average();
+// Where a bridge benchmark ran: CPUs, inside User-Mode Linux or not, load average at start.
+nlohmann::json machine_json();
 
 // "p50 / p99" of a latency summary's JSON in whole microseconds, "-" without samples.
 std::string p50_p99(const nlohmann::json& summary);

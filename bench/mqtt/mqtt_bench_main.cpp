@@ -709,9 +709,7 @@ int measure(const Settings& settings, const fs::path& work) {
   const auto started = std::chrono::steady_clock::now();
   json out;
   json errors = json::array();
-  out["machine"] = {{"cpus", std::thread::hardware_concurrency()},
-                    {"user_mode_linux", std::getenv("VCAN_RUN_IN_UML") != nullptr},
-                    {"load_average_at_start", load_average()}};
+  out["machine"] = machine_json();
   out["settings"] = {{"quick", settings.quick},
                      {"telemetry_seconds", settings.telemetry_s},
                      {"drives", settings.drives},
