@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "gateway_latency.hpp"  // bench_record()
-#include "subscriber_set.hpp"   // LineClient
+#include "subscriber_set.hpp"   // api_call()
 
 namespace bench {
 
@@ -42,12 +42,6 @@ void RecordStream::run(double hz) {
     std::unique_lock lock(mutex_);
     if (stop_requested_.wait_until(lock, next, [this] { return stopping_; })) return;
   }
-}
-
-nlohmann::json api_call(const std::filesystem::path& socket, const std::string& method) {
-  LineClient client(socket);
-  client.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":1,"method":"{}"}})", method));
-  return nlohmann::json::parse(client.read_line(2000)).at("result");
 }
 
 void wait_until_ready(const std::filesystem::path& socket, ChildProgram& daemon, int timeout_ms) {

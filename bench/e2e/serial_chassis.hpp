@@ -41,9 +41,6 @@ class RecordStream {
   std::thread thread_;
 };
 
-// The `result` of a JSON-RPC call without parameters on the daemon's socket.
-nlohmann::json api_call(const std::filesystem::path& socket, const std::string& method);
-
 // Waits until `status` says the link is up and the chassis online and `ready` (records must
 // be arriving meanwhile); throws with the last status and the daemon's log after timeout_ms.
 void wait_until_ready(const std::filesystem::path& socket, ChildProgram& daemon, int timeout_ms = 5000);

@@ -130,4 +130,10 @@ bool SubscriberSet::poll_with(int extra_fd, int timeout_ms, std::vector<std::siz
   return extra_ready;
 }
 
+nlohmann::json api_call(const std::filesystem::path& socket, const std::string& method) {
+  LineClient client(socket);
+  client.send_line(R"({"jsonrpc":"2.0","id":1,"method":")" + method + R"("})");
+  return nlohmann::json::parse(client.read_line(2000)).at("result");
+}
+
 }  // namespace bench

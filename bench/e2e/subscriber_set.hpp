@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace bench {
 
 // One connection to a gateway's Unix socket, speaking lines.
@@ -32,6 +34,10 @@ class LineClient {
   int fd_ = -1;
   std::string buffer_;
 };
+
+// The `result` of a JSON-RPC call without parameters on the daemon's socket, on a connection
+// of its own; throws when there is no answer within 2 s or it is not a result.
+nlohmann::json api_call(const std::filesystem::path& socket, const std::string& method);
 
 // N clients subscribed to telemetry, read through one epoll set.
 class SubscriberSet {

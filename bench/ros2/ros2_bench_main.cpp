@@ -217,10 +217,7 @@ json udp_drops_by_process(const std::vector<std::pair<std::string, pid_t>>& proc
 // did not get.
 json daemon_counters(const fs::path& socket) {
   try {
-    LineClient client(socket);
-    client.send_line(R"({"jsonrpc":"2.0","id":1,"method":"stats"})");
-    const json reply = json::parse(client.read_line(2000));
-    const json& stats = reply.at("result");
+    const json stats = api_call(socket, "stats");
     std::uint64_t discarded = 0;
     for (const auto& count : stats.value("groups_discarded", json::object())) discarded += count.get<std::uint64_t>();
     return {{"records_accepted", stats.value("records_accepted", std::uint64_t{0})},
