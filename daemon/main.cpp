@@ -54,7 +54,9 @@ int main(int argc, char** argv) {
 
   service::setup_logging(config.log.level, "wheeltecd");
   try {
-    boost::asio::io_context io{1};
+    // One thread runs the daemon (the stall sentinel is a process of its own), so Asio
+    // needs no locks.
+    boost::asio::io_context io{BOOST_ASIO_CONCURRENCY_HINT_UNSAFE};
     Gateway gateway(io, std::move(options), std::move(config), std::move(*access));
     gateway.start();
     io.run();

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 #include "wheeltec/asio_can/frame_io.hpp"
 
@@ -51,6 +52,20 @@ CanBus::~CanBus() {
 void CanBus::send(const wheeltec::CanFrame& frame) {
   const can_frame raw = wheeltec::asio_can::to_socketcan(frame);
   if (::write(fd_, &raw, sizeof(raw)) != static_cast<ssize_t>(sizeof(raw))) throw system_error("write");
+}
+
+void CanBus::send_together(std::span<const wheeltec::CanFrame> frames) {
+  std::vector<can_frame> raw;
+  std::vector<iovec> vectors(frames.size());
+  std::vector<mmsghdr> messages(frames.size());
+  for (const auto& frame : frames) raw.push_back(wheeltec::asio_can::to_socketcan(frame));
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    vectors[i] = iovec{&raw[i], sizeof(can_frame)};
+    messages[i].msg_hdr.msg_iov = &vectors[i];
+    messages[i].msg_hdr.msg_iovlen = 1;
+  }
+  const int sent = ::sendmmsg(fd_, messages.data(), static_cast<unsigned>(messages.size()), 0);
+  if (sent != static_cast<int>(messages.size())) throw system_error("sendmmsg");
 }
 
 std::optional<ObservedFrame> CanBus::receive(std::chrono::milliseconds timeout) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,9 @@ class CanBus {
   CanBus& operator=(const CanBus&) = delete;
 
   void send(const wheeltec::CanFrame& frame);
+  // In one system call, so that a test descheduled between two frames of a telemetry
+  // group cannot make the daemon see a gap the test did not mean.
+  void send_together(std::span<const wheeltec::CanFrame> frames);
 
   // The next frame, or empty when none arrives within `timeout`.
   std::optional<ObservedFrame> receive(std::chrono::milliseconds timeout);

@@ -11,6 +11,7 @@
 #include <thread>
 #include <cstring>
 #include <cstdlib>
+#include <vector>
 
 #include <wheeltec/telemetry_group.hpp>
 #include <wheeltec/telemetry_record.hpp>
@@ -216,7 +217,7 @@ TEST_F(DaemonLifecycle, ABurstOfRecordsReachesEverySubscriberInOrder) {
     raw.vx = static_cast<std::int16_t>(n);
     raw.accel_z = 16400;
     raw.battery_mv = 22500;
-    for (std::size_t i = 0; i < 3; ++i) bus_.send(wheeltec::make_telemetry_group(wheeltec::encode_record(raw)).frames[i]);
+    bus_.send_together(wheeltec::make_telemetry_group(wheeltec::encode_record(raw)).frames);
   }
   // The last record, too, must come without waiting for another one.
   for (std::size_t s = 0; s < subscribers.size(); ++s) {
@@ -241,14 +242,15 @@ TEST_F(DaemonLifecycle, InjectedTelemetryIsDecodedAndValidated) {
   const std::array<std::uint8_t, 24> record{0x7B, 0x00, 0x01, 0x01, 0x00, 0x01, 0x00, 0x00, 0xFE, 0x96, 0xFD, 0xCE,
                                             0x40, 0x80, 0xFF, 0xFB, 0x00, 0x07, 0x00, 0x01, 0x58, 0x38, 0x83, 0x7D};
   const auto send_group = [&](const std::array<std::uint8_t, 24>& bytes, std::initializer_list<std::uint32_t> ids) {
+    std::vector<wheeltec::CanFrame> frames;
     for (const std::uint32_t id : ids) {
       const std::size_t offset = (id - 0x101) * 8;
-      wheeltec::CanFrame frame;
+      wheeltec::CanFrame& frame = frames.emplace_back();
       frame.id = id;
       frame.dlc = 8;
       std::copy_n(bytes.begin() + static_cast<std::ptrdiff_t>(offset), 8, frame.data.begin());
-      bus_.send(frame);
     }
+    bus_.send_together(frames);
   };
 
   send_group(record, {0x101, 0x102, 0x103});
