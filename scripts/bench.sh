@@ -132,6 +132,11 @@ print(f"| wakeups/s (voluntary context switches, /proc, the idle run without str
 print(f"| user-space instructions/s (callgrind, {e2e['wheeltecd']['idle_instructions']['seconds']:.0f} s) | {d[2]:.0f} | {r[2]:.0f} | | |")
 print(f"| priced at {syscall_ns:.0f} ns per system call, {wakeup_ns:.0f} ns per wakeup, 1 instruction per cycle at {mhz:.0f} MHz: CPU us/s | {d[3]:.0f} | {r[3]:.0f} | | |")
 print(f"| estimated idle CPU on this host natively (% of a core) | {d[3]/1e4:.3f} | {r[3]/1e4:.3f} | < 0.2 | {'met' if d[3]/1e4 < 0.2 else '**missed**'} |")
+spec = e2e["floor"].get("spec_floor_idle_instructions")
+if spec:
+    ips = spec["instructions_per_s"]
+    print(f"| user-space instructions/s of the spec floor (the relay plus the spec's work per record and control period, callgrind) | wheeltecd {d[2] / ips:.2f}x it | {ips:.0f}, {ips / r[2]:.2f}x the relay | | |")
+print(f"| user-space instructions: wheeltecd against the relay | {d[2] / r[2]:.2f}x | | <= 3x | {'met' if d[2] <= 3 * r[2] else '**missed**'} |")
 PY
 )
 

@@ -514,6 +514,16 @@ int main(int argc, char** argv) try {
       out["floor"]["relay_idle_instructions"] = idle_instructions(
           s, {s.floor, "--interface", s.interface, "--socket", socket.string()}, socket, chassis, dir, "relay");
     });
+    // The spec floor: the relay plus the spec's own work for each record and control period
+    // (the notification, decoding, odometry, attitude, a control frame every 50 ms) with
+    // wheeltecd's pure code, so that the daemon's design and the spec's cost are told apart.
+    std::cerr << "bench: spec floor idle under callgrind\n";
+    const fs::path spec_socket = dir / "spec-floor-callgrind.sock";
+    optional_count("spec floor idle instructions", [&] {
+      out["floor"]["spec_floor_idle_instructions"] =
+          idle_instructions(s, {s.floor, "--interface", s.interface, "--socket", spec_socket.string(), "--spec-work"},
+                            spec_socket, chassis, dir, "spec-floor");
+    });
   }
   out["floor"]["relay_idle"] = {{"seconds", relay_idle.wall_s}, {"cpu_percent", 100.0 * relay_idle.cpu_s() / relay_idle.wall_s},
                                 {"voluntary_switches_per_s",
@@ -710,6 +720,16 @@ int main(int argc, char** argv) try {
                      number(out["wheeltecd"]["idle_instructions"], "seconds"),
                      number(out["wheeltecd"]["idle_instructions"], "instructions_per_s"),
                      number(out["floor"]["relay_idle_instructions"], "instructions_per_s"));
+    const double daemon_ips = number(out["wheeltecd"]["idle_instructions"], "instructions_per_s");
+    const double relay_ips = number(out["floor"]["relay_idle_instructions"], "instructions_per_s");
+    const double spec_ips = number(out["floor"]["spec_floor_idle_instructions"], "instructions_per_s");
+    if (spec_ips > 0) {
+      t += fmt::format("| idle, counted: user-space instructions/s of the spec floor (the relay plus the spec's work per record and control period) | | spec floor {:.0f} | spec floor {} the relay | | |\n",
+                       spec_ips, ratio(spec_ips, relay_ips));
+    }
+    t += fmt::format("| idle: user-space instructions, wheeltecd against the relay / the spec floor | | | {} / {} | <= 3x relay | {} |\n",
+                     ratio(daemon_ips, relay_ips), ratio(daemon_ips, spec_ips),
+                     verdict(relay_ips > 0 && daemon_ips <= 3 * relay_ips));
   }
   t += fmt::format("| RSS, 0 clients (MiB) | {:.2f} | | | | |\n", rss0.rss_kib / 1024.0);
   t += fmt::format("| RSS, 64 clients (MiB) | {:.2f} | | | < 8 | {} |\n", rss64.rss_kib / 1024.0,

@@ -14,6 +14,9 @@
 // that the two can be compared where subscribers fall behind. With --frame-fd N it reads
 // the frames (struct can_frame) from the inherited socket N instead of a raw CAN socket: the
 // native fan-out benchmark feeds it through a SOCK_SEQPACKET socket where there is no CAN.
+// With --spec-work it becomes the spec floor: each record is reassembled, decoded and
+// written as its real notification, and a control frame goes out every 1/20 s, with
+// wheeltecd's own pure code (spec_work.hpp); the rest of the loop stays the relay's.
 #include <fcntl.h>
 #include <linux/can.h>
 #include <linux/can/raw.h>
@@ -21,15 +24,20 @@
 #include <sys/epoll.h>
 #include <sys/socket.h>
 #include <sys/un.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "spec_work.hpp"
 
 namespace {
 
@@ -84,21 +92,30 @@ int open_can_socket(const std::string& interface) {
 int main(int argc, char** argv) {
   std::string interface = "vcan0", socket_path;
   bool bounded = false;
+  bool spec_work = false;
   int frame_fd = -1;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--bounded-backlog") == 0) bounded = true;
+    else if (std::strcmp(argv[i], "--spec-work") == 0) spec_work = true;
     else if (i + 1 < argc && std::strcmp(argv[i], "--frame-fd") == 0) frame_fd = std::atoi(argv[++i]);
     else if (i + 1 < argc && std::strcmp(argv[i], "--interface") == 0) interface = argv[++i];
     else if (i + 1 < argc && std::strcmp(argv[i], "--socket") == 0) socket_path = argv[++i];
   }
   if (socket_path.empty()) {
     std::fprintf(stderr,
-                 "usage: wheeltec-bench-floor --socket PATH [--interface vcan0 | --frame-fd N] [--bounded-backlog]\n");
+                 "usage: wheeltec-bench-floor --socket PATH [--interface vcan0 | --frame-fd N] [--bounded-backlog]\n"
+                 "       [--spec-work]\n");
     return 2;
   }
 
   const int can = frame_fd >= 0 ? frame_fd : open_can_socket(interface);
   if (::fcntl(can, F_SETFL, ::fcntl(can, F_GETFL) | O_NONBLOCK) != 0) fail("frame socket");
+  std::unique_ptr<wheeltec::bench::SpecWork> spec;
+  if (spec_work) {
+    const int on = 1;
+    if (::setsockopt(can, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on)) != 0) fail("SO_TIMESTAMPNS");
+    spec = std::make_unique<wheeltec::bench::SpecWork>(can, 20.0);
+  }
 
   const int listener = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK, 0);
   sockaddr_un address{};
@@ -116,6 +133,10 @@ int main(int argc, char** argv) {
   ::epoll_ctl(epoll, EPOLL_CTL_ADD, listener, &event);
   event.data.fd = can;
   ::epoll_ctl(epoll, EPOLL_CTL_ADD, can, &event);
+  if (spec) {
+    event.data.fd = spec->timer_fd();
+    ::epoll_ctl(epoll, EPOLL_CTL_ADD, spec->timer_fd(), &event);
+  }
 
   std::vector<Client> clients;
   unsigned long long seq = 0;
@@ -170,10 +191,12 @@ int main(int argc, char** argv) {
         ::epoll_ctl(epoll, EPOLL_CTL_ADD, client, &event);
         if (static_cast<std::size_t>(client) >= clients.size()) clients.resize(client + 1);
         clients[client] = Client{client, false, {}, {}};
+      } else if (spec && fd == spec->timer_fd()) {
+        spec->on_timer();
       } else if (fd == can) {
         can_frame frame;
         iovec data{&frame, sizeof(frame)};
-        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(std::uint32_t))];
+        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(std::uint32_t)) + CMSG_SPACE(sizeof(timespec))];
         msghdr message{};
         message.msg_iov = &data;
         message.msg_iovlen = 1;
@@ -182,8 +205,20 @@ int main(int argc, char** argv) {
           message.msg_controllen = sizeof(control);
           if (::recvmsg(can, &message, 0) != static_cast<ssize_t>(sizeof(frame))) break;
           ++frames_received;
+          timespec received{};
           for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
-            if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) std::memcpy(&frames_dropped, CMSG_DATA(c), 4);
+            if (c->cmsg_level != SOL_SOCKET) continue;
+            if (c->cmsg_type == SO_RXQ_OVFL) std::memcpy(&frames_dropped, CMSG_DATA(c), 4);
+            if (c->cmsg_type == SO_TIMESTAMPNS) std::memcpy(&received, CMSG_DATA(c), sizeof(received));
+          }
+          if (spec) {
+            const wheeltec::RealtimeNanos time{std::chrono::seconds(received.tv_sec) + std::chrono::nanoseconds(received.tv_nsec)};
+            if (spec->on_frame(frame, time, batch)) {
+              ++seq;
+              ++batch_lines;
+              if (batch.size() >= kMaxBatch) flush();
+            }
+            continue;
           }
           if ((frame.can_id & CAN_SFF_MASK) != 0x103) continue;
           const int size = std::snprintf(

@@ -54,6 +54,56 @@ for name in ("wheeltecd", "floor"):
 print("bench smoke: fan-out benchmark ran (wheeltecd and relay floor delivered telemetry)")
 PY
 
+# The relay floor's --spec-work (the spec floor of the end-to-end benchmark's instruction
+# count): fed one record on a socket pair, it must publish that record's real notification
+# and send zero-velocity control frames, which the plain relay does not.
+python3 - "$BUILD_DIR/bench/wheeltec-bench-floor" <<'PY'
+import json, os, socket, struct, subprocess, sys, tempfile
+ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+path = os.path.join(tempfile.mkdtemp(), "spec-floor.sock")
+floor = subprocess.Popen([sys.argv[1], "--frame-fd", str(theirs.fileno()), "--socket", path, "--spec-work"],
+                         pass_fds=[theirs.fileno()])
+theirs.close()
+try:
+    sub = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    for attempt in range(500):
+        try:
+            sub.connect(path)
+            break
+        except OSError:
+            if floor.poll() is not None or attempt == 499:
+                sys.exit("bench smoke: the spec floor did not open its socket")
+            subprocess.run(["sleep", "0.01"])
+    sub.sendall(b'{"jsonrpc":"2.0","method":"subscribe","params":{"topics":["telemetry"]},"id":1}\n')
+    sub.settimeout(5)
+    sub.recv(4096)
+    # vx 123 mm/s, accel z 16400 (about 1 g), battery 11900 mV; then the XOR check byte and the tail.
+    body = bytes([0x7B, 0]) + struct.pack(">10h", 123, 0, 0, 0, 0, 16400, 0, 0, 0, 11900)
+    check = 0
+    for byte in body:
+        check ^= byte
+    record = body + bytes([check, 0x7D])
+    for i in range(3):
+        ours.send(struct.pack("=IB3x8s", 0x101 + i, 8, record[8 * i:8 * i + 8]))
+    line = b""
+    while not line.endswith(b"\n"):
+        line += sub.recv(4096)
+    params = json.loads(line)["params"]
+    if params["velocity"]["vx"] != 0.123 or params["battery"]["voltage"] != 11.9 or "orientation" not in params:
+        sys.exit(f"bench smoke: the spec floor's notification is not the record's: {params}")
+    ours.settimeout(5)
+    while True:
+        can_id, dlc, data = struct.unpack("=IB3x8s", ours.recv(16))
+        if can_id == 0x121:
+            break
+    if data != bytes(8):
+        sys.exit(f"bench smoke: the spec floor's control frame is not zero velocity: {data.hex()}")
+    print("bench smoke: spec floor ran (the record's notification, a zero-velocity control frame)")
+finally:
+    floor.terminate()
+    floor.wait()
+PY
+
 # The serial-link benchmark's quick mode (a few seconds, natively on a pseudo-terminal): both
 # latencies must have samples.
 "$BUILD_DIR/bench/wheeltec-bench-serial" --quick --wheeltecd "$BUILD_DIR/daemon/wheeltecd" --json "$serial" >/dev/null
