@@ -24,11 +24,9 @@
 #include <sys/epoll.h>
 #include <sys/socket.h>
 #include <sys/un.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -38,6 +36,7 @@
 #include <vector>
 
 #include "spec_work.hpp"
+#include "wheeltec/asio_can/frame_io.hpp"
 
 namespace {
 
@@ -205,15 +204,11 @@ int main(int argc, char** argv) {
           message.msg_controllen = sizeof(control);
           if (::recvmsg(can, &message, 0) != static_cast<ssize_t>(sizeof(frame))) break;
           ++frames_received;
-          timespec received{};
           for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
-            if (c->cmsg_level != SOL_SOCKET) continue;
-            if (c->cmsg_type == SO_RXQ_OVFL) std::memcpy(&frames_dropped, CMSG_DATA(c), 4);
-            if (c->cmsg_type == SO_TIMESTAMPNS) std::memcpy(&received, CMSG_DATA(c), sizeof(received));
+            if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) std::memcpy(&frames_dropped, CMSG_DATA(c), 4);
           }
           if (spec) {
-            const wheeltec::RealtimeNanos time{std::chrono::seconds(received.tv_sec) + std::chrono::nanoseconds(received.tv_nsec)};
-            if (spec->on_frame(frame, time, batch)) {
+            if (spec->on_frame(frame, wheeltec::asio_can::detail::receive_time(message), batch)) {
               ++seq;
               ++batch_lines;
               if (batch.size() >= kMaxBatch) flush();
