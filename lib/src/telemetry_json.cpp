@@ -33,6 +33,17 @@ class RecordWriter {
 
   template <int Decimals>
   void fixed(double value) {
+    using fixed_decimal_detail::NegativeZero;
+    char* const end = fixed_decimal_detail::write_small_fixed<Decimals, NegativeZero::unsigned_>(end_, value);
+    if (end != nullptr) {
+      end_ = end;
+    } else {
+      any_fixed<Decimals>(value);
+    }
+  }
+
+  template <int Decimals>
+  [[gnu::noinline]] void any_fixed(double value) {
     if (!std::isfinite(value)) {
       text("null");  // JSON has no NaN or infinity
       return;
@@ -44,9 +55,11 @@ class RecordWriter {
       return;
     }
     end_ = result.ptr;
-    if (*begin == '-' && rounds_to_zero(begin + 1, end_)) {
-      // -0.0 and tiny negatives that round to zero print as 0.000
-      std::memmove(begin, begin + 1, static_cast<std::size_t>(end_ - begin - 1));
+    // -0.0 and tiny negatives that round to zero print as 0.000: "-" then exactly that.
+    constexpr std::string_view kZero = std::string_view("0.000000000").substr(0, Decimals > 0 ? 2 + Decimals : 1);
+    if (*begin == '-' && end_ - begin == static_cast<std::ptrdiff_t>(1 + kZero.size()) &&
+        std::memcmp(begin + 1, kZero.data(), kZero.size()) == 0) {
+      std::memmove(begin, begin + 1, kZero.size());
       --end_;
     }
   }
@@ -73,24 +86,13 @@ class RecordWriter {
     const std::uint64_t ns = count < 0 ? 0 - static_cast<std::uint64_t>(count) : static_cast<std::uint64_t>(count);
     integer(ns / 1'000'000'000);
     text(".");
-    std::uint64_t micros = ns % 1'000'000'000 / 1'000;
-    for (int i = 5; i >= 0; --i) {
-      end_[i] = static_cast<char>('0' + micros % 10);
-      micros /= 10;
-    }
     end_ += 6;
+    fixed_decimal_detail::write_digits_backwards<6>(end_, ns % 1'000'000'000 / 1'000);
   }
 
   void append_to(std::string& out) const { out.append(buffer_, static_cast<std::size_t>(end_ - buffer_)); }
 
  private:
-  static bool rounds_to_zero(const char* begin, const char* end) {
-    for (const char* c = begin; c != end; ++c) {
-      if (*c != '0' && *c != '.') return false;
-    }
-    return true;
-  }
-
   char buffer_[kLongestRecord];
   char* end_ = buffer_;
 };

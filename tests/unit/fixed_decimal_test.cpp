@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -76,6 +77,55 @@ TEST(FixedDecimal, MatchesToCharsOnRandomValuesOfEveryMagnitude) {
     const int decimals = static_cast<int>(bits(random) % 7);
     ASSERT_EQ(fast(value, decimals), standard(value, decimals)) << value << " with " << decimals;
   }
+}
+
+// The digits from one multiplication against plain division, for every number of widths up
+// to 6 and, for 7 and 8 (the notification's 5 and 6 decimals with two integer digits),
+// every number below 10^6, every number next to a multiple of 10^k, and random ones.
+template <int Width>
+void expect_top_digits_exact(std::uint64_t n) {
+  using Digits = wheeltec::fixed_decimal_detail::TopDigits<Width>;
+  char below[Width];
+  const std::uint64_t fixed = Digits::scale(n);
+  Digits::write_below_leading_pair(below, fixed);
+  std::uint64_t divisor = wheeltec::fixed_decimal_detail::power_of_ten(Width - 2);
+  ASSERT_EQ(Digits::leading_pair(fixed), n / divisor) << n << " in width " << Width;
+  for (int i = 0; i < Width - 2; ++i) {
+    divisor /= 10;
+    ASSERT_EQ(below[i], static_cast<char>('0' + n / divisor % 10)) << n << " in width " << Width << ", digit " << i;
+  }
+}
+
+template <int Width>
+void expect_top_digits_exact_up_to_a_million() {
+  const std::uint64_t end = std::min<std::uint64_t>(wheeltec::fixed_decimal_detail::power_of_ten(Width), 1'000'000);
+  for (std::uint64_t n = 0; n < end; ++n) expect_top_digits_exact<Width>(n);
+}
+
+TEST(FixedDecimal, CutsDigitsExactlyWithOneMultiplication) {
+  expect_top_digits_exact_up_to_a_million<2>();
+  expect_top_digits_exact_up_to_a_million<3>();
+  expect_top_digits_exact_up_to_a_million<4>();
+  expect_top_digits_exact_up_to_a_million<5>();
+  expect_top_digits_exact_up_to_a_million<6>();
+  expect_top_digits_exact_up_to_a_million<7>();
+  expect_top_digits_exact_up_to_a_million<8>();
+  for (std::uint64_t power = 100; power <= 10'000'000; power *= 10) {
+    const std::uint64_t step = power * std::max<std::uint64_t>(1, 100'000'000 / power / 5'000);
+    for (std::uint64_t multiple = power; multiple < 100'000'000; multiple += step) {
+      for (const std::uint64_t n : {multiple - 1, multiple, multiple + 1}) {
+        if (n < 10'000'000) expect_top_digits_exact<7>(n);
+        expect_top_digits_exact<8>(n);
+      }
+    }
+  }
+  std::mt19937_64 random(20261127);
+  for (int i = 0; i < 1'000'000; ++i) {
+    expect_top_digits_exact<7>(random() % 10'000'000);
+    expect_top_digits_exact<8>(random() % 100'000'000);
+  }
+  expect_top_digits_exact<7>(9'999'999);
+  expect_top_digits_exact<8>(99'999'999);
 }
 
 TEST(FixedDecimal, ReportsABufferTooSmallAsToCharsDoes) {

@@ -58,6 +58,90 @@ inline int digit_count(std::uint64_t value) {
   return count;
 }
 
+constexpr std::uint64_t power_of_ten(int exponent) {
+  std::uint64_t power = 1;
+  for (int i = 0; i < exponent; ++i) power *= 10;
+  return power;
+}
+
+// Cuts a number below 10^Width into digits from the top with one multiplication per pair
+// (jeaiii's method): n * kMultiplier holds n's leading two digits above bit kShift and the
+// rest as a binary fraction below it; each further pair is that fraction times 100. The
+// multiplier is 2^kShift / 10^(Width-2) rounded up, and its error over every n below
+// 10^Width (under 10^Width units of 2^-kShift) stays below the weight of the last digit
+// while 2^kShift > 10^(2*Width-2): so the digits are exact for every such n.
+template <int Width>
+struct TopDigits {
+  static_assert(Width >= 2 && Width <= 8);
+  static constexpr int kShift = [] {
+    int shift = 0;
+    while ((std::uint64_t{1} << shift) <= power_of_ten(2 * Width - 2)) ++shift;
+    return shift;
+  }();
+  static constexpr std::uint64_t kMultiplier = (std::uint64_t{1} << kShift) / power_of_ten(Width - 2) + 1;
+  static constexpr std::uint64_t kFractionMask = (std::uint64_t{1} << kShift) - 1;
+
+  // n as a binary fixed-point number: its leading pair above kShift, the rest below.
+  static std::uint64_t scale(std::uint64_t n) { return n * kMultiplier; }
+  static std::uint64_t leading_pair(std::uint64_t fixed) { return fixed >> kShift; }
+
+  // Writes the Width - 2 digits below the leading pair, from `out`.
+  static void write_below_leading_pair(char* out, std::uint64_t fixed) {
+    int written = 0;
+#pragma GCC unroll 4
+    for (; written + 2 <= Width - 2; written += 2) {
+      fixed = (fixed & kFractionMask) * 100;
+      write_pair(out + written, fixed >> kShift);
+    }
+    if (written < Width - 2) {
+      fixed = (fixed & kFractionMask) * 10;
+      out[written] = static_cast<char>('0' + (fixed >> kShift));
+    }
+  }
+};
+
+enum class NegativeZero { signed_, unsigned_ };
+
+// The common case: |value| under 100 with up to 6 decimals, away from a rounding tie. Writes
+// the characters fixed_decimal_to_chars<Decimals> writes (at most 3 + 1 + Decimals, no bounds
+// check) and returns their end; or writes nothing and returns nullptr. With
+// NegativeZero::unsigned_, a negative value that rounds to zero has no sign.
+template <int Decimals, NegativeZero kNegativeZero>
+[[gnu::always_inline]] inline char* write_small_fixed(char* out, double value) {
+  static_assert(Decimals >= 0 && Decimals <= 6);
+  constexpr std::uint64_t kUnit = kPowersOfTen[Decimals];
+  const double scaled = std::fabs(value) * static_cast<double>(kUnit);
+  // Also false for NaN and infinity; below 100 * kUnit - 1, the rounded value is under 100 * kUnit.
+  if (!(scaled < static_cast<double>(100 * kUnit - 1))) return nullptr;
+  // scaled is not negative: the signed conversion is the floor, and cheaper.
+  const auto whole = static_cast<std::uint64_t>(static_cast<std::int64_t>(scaled));
+  const double fraction = scaled - static_cast<double>(whole);  // exact
+  if (std::fabs(fraction - 0.5) < kTieMargin) return nullptr;
+  const std::uint64_t rounded = whole + (fraction > 0.5 ? 1 : 0);
+
+  using Digits = TopDigits<Decimals + 2>;
+  const std::uint64_t fixed = Digits::scale(rounded);
+  const std::uint64_t integer_part = Digits::leading_pair(fixed);
+  *out = '-';
+  if constexpr (kNegativeZero == NegativeZero::signed_) {
+    out += std::signbit(value);
+  } else {
+    out += std::signbit(value) && rounded != 0;
+  }
+  if (integer_part < 10) {
+    *out++ = static_cast<char>('0' + integer_part);
+  } else {
+    write_pair(out, integer_part);
+    out += 2;
+  }
+  if constexpr (Decimals > 0) {
+    *out++ = '.';
+    Digits::write_below_leading_pair(out, fixed);
+    out += Decimals;
+  }
+  return out;
+}
+
 }  // namespace fixed_decimal_detail
 
 // The same with the number of decimals fixed at compile time (0 to kMaxFastDecimals),
@@ -66,6 +150,12 @@ template <int Decimals>
 inline std::to_chars_result fixed_decimal_to_chars(char* first, char* last, double value) {
   namespace detail = fixed_decimal_detail;
   static_assert(Decimals >= 0 && Decimals <= kMaxFastDecimals);
+  if constexpr (Decimals <= 6) {
+    if (last - first >= 3 + 1 + Decimals) {
+      char* const end = detail::write_small_fixed<Decimals, detail::NegativeZero::signed_>(first, value);
+      if (end != nullptr) return {end, std::errc{}};
+    }
+  }
   constexpr std::uint64_t kUnit = detail::kPowersOfTen[Decimals];
   const double scaled = std::fabs(value) * static_cast<double>(kUnit);
   // Also false for NaN and infinity.
@@ -78,25 +168,18 @@ inline std::to_chars_result fixed_decimal_to_chars(char* first, char* last, doub
     return std::to_chars(first, last, value, std::chars_format::fixed, Decimals);
   }
   const std::uint64_t rounded = whole + (fraction > 0.5 ? 1 : 0);
+  const bool negative = std::signbit(value);
   const std::uint64_t integer_part = rounded / kUnit;
 
-  // Telemetry's values mostly have one or two integer digits.
-  const int integer_digits = integer_part < 10 ? 1 : integer_part < 100 ? 2 : detail::digit_count(integer_part);
-  const bool negative = std::signbit(value);
+  const int integer_digits = detail::digit_count(integer_part);
   const auto length = static_cast<std::size_t>(negative) + static_cast<std::size_t>(integer_digits) +
                       (Decimals > 0 ? 1 + Decimals : 0);
   if (static_cast<std::size_t>(last - first) < length) return {last, std::errc::value_too_large};
 
   char* out = first;
   if (negative) *out++ = '-';
-  if (integer_digits == 1) {
-    *out = static_cast<char>('0' + integer_part);
-  } else if (integer_digits == 2) {
-    detail::write_pair(out, integer_part);
-  } else {
-    std::uint64_t rest = integer_part;
-    for (int i = integer_digits - 1; i >= 0; --i, rest /= 10) out[i] = static_cast<char>('0' + rest % 10);
-  }
+  std::uint64_t rest = integer_part;
+  for (int i = integer_digits - 1; i >= 0; --i, rest /= 10) out[i] = static_cast<char>('0' + rest % 10);
   out += integer_digits;
   if constexpr (Decimals > 0) {
     *out++ = '.';
