@@ -51,8 +51,10 @@ std::string velocity_text(const Json& velocity) {
 }
 
 std::string chassis_text(const Json& chassis) {
-  std::string text = fmt::format("{}, dialect {}, ", string_text(member_or_null(chassis, "type")),
-                                 string_text(member_or_null(chassis, "dialect")));
+  std::string text = string_text(member_or_null(chassis, "type"));
+  const Json& dialect = member_or_null(chassis, "dialect");  // CAN only: the serial line has none
+  if (!dialect.is_null()) text += ", dialect " + string_text(dialect);
+  text += ", ";
   const Json& online = member_or_null(chassis, "online");
   if (!online.is_boolean()) {
     text += "online ?";
@@ -68,7 +70,9 @@ std::string chassis_text(const Json& chassis) {
   const Json& stopped = member_or_null(chassis, "stopped");
   if (stopped.is_boolean()) text += stopped.get<bool>() ? ", motors stopped" : ", motors enabled";
   const Json& ignored = member_or_null(chassis, "commands_ignored");
-  if (ignored.is_boolean() && ignored.get<bool>()) text += ", COMMANDS IGNORED (check can.dialect)";
+  if (ignored.is_boolean() && ignored.get<bool>()) {
+    text += dialect.is_null() ? ", COMMANDS IGNORED" : ", COMMANDS IGNORED (check can.dialect)";
+  }
   return text;
 }
 

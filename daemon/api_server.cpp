@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/rpc.hpp"
+#include "wheeltec/service/logging.hpp"
 
 #include "lingering_close.hpp"
 #include "peer_credentials.hpp"
@@ -124,7 +125,7 @@ void ApiServer::accept() {
 void ApiServer::on_accept(const boost::system::error_code& error, stream_protocol::socket socket) {
   if (closed_ || error == boost::asio::error::operation_aborted) return;
   if (error) {
-    spdlog::warn("API: accept failed: {}", error.message());
+    service::log_limited(log_limits_.refused, spdlog::level::warn, "API: accept failed: {}", error.message());
     if (is_resource_shortage(error)) {
       accept_retry_timer_.expires_after(kAcceptRetryDelay);
       accept_retry_timer_.async_wait([this](const boost::system::error_code& wait_error) {
@@ -147,16 +148,17 @@ void ApiServer::on_accept(const boost::system::error_code& error, stream_protoco
   const auto peer = read_peer_credentials(socket.native_handle());
   if (peer) {
     state.control_refusal = policy_.refusal(*peer);
-    spdlog::info("client {} connected (pid {}, uid {}, gid {}){}", state.id, peer->pid, peer->uid, peer->gid,
-                 state.control_refusal ? "" : ", may control");
+    service::log_limited(log_limits_.connected, spdlog::level::info, "client {} connected (pid {}, uid {}, gid {}){}",
+                         state.id, peer->pid, peer->uid, peer->gid, state.control_refusal ? "" : ", may control");
   } else {
     state.control_refusal = "the peer's credentials are unknown, so it may not control the chassis";
-    spdlog::info("client {} connected (credentials unknown)", state.id);
+    service::log_limited(log_limits_.connected, spdlog::level::info, "client {} connected (credentials unknown)",
+                         state.id);
   }
   ++counters_.clients;
   ++counters_.clients_total;
   const ClientId id = state.id;
-  auto session = std::make_shared<ClientSession>(std::move(socket), std::move(state), handler_, counters_,
+  auto session = std::make_shared<ClientSession>(std::move(socket), std::move(state), handler_, counters_, log_limits_,
                                                  [this](ClientId gone) { client_gone(gone); });
   sessions_.emplace(id, session);
   session->start();
@@ -166,7 +168,8 @@ void ApiServer::on_accept(const boost::system::error_code& error, stream_protoco
 // The refused client gets its error line and the end of the stream like any closing client.
 void ApiServer::refuse_client(stream_protocol::socket socket) {
   ++counters_.clients_refused;
-  spdlog::warn("API: refused a client: too many clients (max {})", max_clients_);
+  service::log_limited(log_limits_.refused, spdlog::level::warn, "API: refused a client: too many clients (max {})",
+                       max_clients_);
   auto line = std::make_shared<const std::string>(
       rpc::encode_error(rpc::Error{rpc::kTooManyClients, fmt::format("too many clients (max {})", max_clients_), nullptr}));
   auto client = std::make_shared<stream_protocol::socket>(std::move(socket));
@@ -177,7 +180,7 @@ void ApiServer::refuse_client(stream_protocol::socket socket) {
 }
 
 void ApiServer::client_gone(ClientId id) {
-  spdlog::info("client {} disconnected", id);
+  service::log_limited(log_limits_.disconnected, spdlog::level::info, "client {} disconnected", id);
   --counters_.clients;
   if (gone_handler_) gone_handler_(id);
   // Not erased at once: this may run while the sessions are being iterated (publishing).

@@ -17,6 +17,7 @@
 #include "wheeltec/text_pool.hpp"
 
 #include "api_counters.hpp"
+#include "api_log_limits.hpp"
 #include "client_session.hpp"
 #include "control_policy.hpp"
 #include "rpc_handler.hpp"
@@ -74,6 +75,7 @@ class ApiServer {
   ClientId next_client_id_ = 1;
   std::map<ClientId, std::shared_ptr<ClientSession>> sessions_;
   GoneHandler gone_handler_;
+  ApiLogLimits log_limits_;
   bool closed_ = false;
   TextPool notification_texts_{768};  // a telemetry notification is about 450 bytes
 };

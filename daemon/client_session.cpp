@@ -7,20 +7,22 @@
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/rpc.hpp"
+#include "wheeltec/service/logging.hpp"
 
 #include "lingering_close.hpp"
 
 namespace wheeltec::daemon {
 
 ClientSession::ClientSession(Socket socket, ClientState state, RpcHandler& handler, ApiCounters& counters,
-                             GoneHandler on_gone)
+                             ApiLogLimits& log_limits, GoneHandler on_gone)
     : socket_(std::move(socket)),
       state_(std::move(state)),
       handler_(handler),
       counters_(counters),
+      log_limits_(log_limits),
       on_gone_(std::move(on_gone)),
       framer_(rpc::kMaxLineBytes),
-      writer_(socket_, state_.id, counters, *this) {}
+      writer_(socket_, state_.id, counters, log_limits, *this) {}
 
 void ClientSession::start() { advance_input(); }
 
@@ -86,7 +88,8 @@ void ClientSession::on_read(const boost::system::error_code& error, std::size_t 
   if (error == boost::asio::error::eof) {
     framer_.finish();  // a last line without '\n' still counts
   } else if (error) {
-    spdlog::debug("client {}: read failed: {}", state_.id, error.message());
+    service::log_limited(log_limits_.read_failed, spdlog::level::debug, "client {}: read failed: {}", state_.id,
+                         error.message());
     end(Ending::read_failed);
     return;
   } else {
@@ -132,7 +135,8 @@ void ClientSession::handle_line(std::string_view line) {
 }
 
 void ClientSession::refuse_long_line() {
-  spdlog::warn("client {}: request line exceeds {} bytes; closing the connection", state_.id, rpc::kMaxLineBytes);
+  service::log_limited(log_limits_.line_too_long, spdlog::level::warn,
+                       "client {}: request line exceeds {} bytes; closing the connection", state_.id, rpc::kMaxLineBytes);
   ++counters_.requests;
   ++counters_.request_errors;
   const rpc::Error error{rpc::kInvalidRequest, fmt::format("line exceeds {} bytes", rpc::kMaxLineBytes), nullptr};

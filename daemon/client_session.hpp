@@ -28,6 +28,7 @@
 #include "wheeltec/outbound_queue.hpp"
 
 #include "api_counters.hpp"
+#include "api_log_limits.hpp"
 #include "client_state.hpp"
 #include "rpc_handler.hpp"
 #include "session_writer.hpp"
@@ -45,7 +46,8 @@ class ClientSession : public std::enable_shared_from_this<ClientSession>, privat
   // queued responses may still be flushed after it.
   using GoneHandler = std::function<void(ClientId)>;
 
-  ClientSession(Socket socket, ClientState state, RpcHandler& handler, ApiCounters& counters, GoneHandler on_gone);
+  ClientSession(Socket socket, ClientState state, RpcHandler& handler, ApiCounters& counters, ApiLogLimits& log_limits,
+                GoneHandler on_gone);
 
   void start();
 
@@ -104,6 +106,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession>, privat
   ClientState state_;
   RpcHandler& handler_;
   ApiCounters& counters_;
+  ApiLogLimits& log_limits_;
   GoneHandler on_gone_;
 
   Phase phase_ = Phase::open;

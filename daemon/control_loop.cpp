@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/seconds.hpp"
+#include "wheeltec/service/logging.hpp"
 
 #include "supervisor_log.hpp"
 
@@ -105,7 +106,8 @@ void ControlLoop::disable() {
 
 void ControlLoop::client_gone(ClientId client) {
   if (!supervisor_.client_gone(client)) return;
-  spdlog::info("client {} gone while holding control: zero velocity", client);
+  service::log_limited(released_log_, ports_.clock.now(), spdlog::level::info,
+                       "client {} gone while holding control: zero velocity", client);
   cancel_deadman();
   send_command();
   changed();
@@ -250,8 +252,9 @@ void ControlLoop::arm_deadman() {
 bool ControlLoop::release_if_lapsed() {
   const auto owner = supervisor_.owner();
   if (!supervisor_.expire_deadman(ports_.clock.now())) return false;
-  spdlog::info("client {} stopped driving for {:g} s: zero velocity, control released", owner.value_or(0),
-               config_.control.command_timeout_s);
+  service::log_limited(released_log_, ports_.clock.now(), spdlog::level::info,
+                       "client {} stopped driving for {:g} s: zero velocity, control released", owner.value_or(0),
+                       config_.control.command_timeout_s);
   cancel_deadman();
   send_command();
   changed();

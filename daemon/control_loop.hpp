@@ -6,6 +6,7 @@
 
 #include "wheeltec/chassis_supervisor.hpp"
 #include "wheeltec/config.hpp"
+#include "wheeltec/log_rate_limiter.hpp"
 
 #include "control_ports.hpp"
 
@@ -78,6 +79,9 @@ class ControlLoop {
   ControlPorts ports_;
   ChassisSupervisor& supervisor_;
   GatewayConfig config_;
+  // Control released because its owner left or stopped driving: a remote operator can do
+  // either as often as it likes, through a bridge.
+  LogRateLimiter released_log_;
   std::chrono::nanoseconds enable_refresh_{};
   MonotonicNanos next_enable_{};
   std::optional<MonotonicNanos> deadman_expiry_;  // of the deadman timer's wait under way

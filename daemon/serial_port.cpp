@@ -100,10 +100,12 @@ bool SerialPort::try_open() {
   }
   ::tcflush(fd, TCIOFLUSH);  // bytes of an earlier session are not this controller's news
 
-  ++counters_.reopens;
+  const bool first_open = !opened_before_;
+  opened_before_ = true;
+  if (!first_open) ++counters_.reopens;
   ++generation_;
   retry_timer_.cancel();
-  if (down_cause_ != DownCause::none || counters_.reopens == 1) {
+  if (down_cause_ != DownCause::none || first_open) {
     spdlog::info("serial {}: open, {} baud 8N1, locked", device_, baud_);
   }
   down_cause_ = DownCause::none;

@@ -22,7 +22,7 @@ struct SerialPortCounters {
   std::uint64_t bytes_received = 0;
   std::uint64_t writes = 0;         // whole frames written
   std::uint64_t write_errors = 0;   // frames the port did not take
-  std::uint64_t reopens = 0;        // times the port was opened successfully
+  std::uint64_t reopens = 0;        // times the port was opened again after it was lost; not the first open
 };
 
 // The controller's serial port: opened raw, 8N1, no flow control, at `baud`; held
@@ -79,6 +79,7 @@ class SerialPort {
   DownCause down_cause_ = DownCause::none;
   std::uint64_t failed_writes_in_row_ = 0;
   std::uint64_t generation_ = 0;  // bumped when the port is closed: older completions are stale
+  bool opened_before_ = false;
   bool running_ = false;
   BytesHandler bytes_handler_;
   StateHandler state_handler_;

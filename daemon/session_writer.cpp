@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/service/logging.hpp"
+
 namespace wheeltec::daemon {
 namespace {
 
@@ -13,10 +15,12 @@ constexpr std::size_t kMaxBuffersPerWrite = 64;
 
 }  // namespace
 
-SessionWriter::SessionWriter(Socket& socket, ClientId client, ApiCounters& counters, Owner& owner)
+SessionWriter::SessionWriter(Socket& socket, ClientId client, ApiCounters& counters, ApiLogLimits& log_limits,
+                             Owner& owner)
     : socket_(socket),
       client_(client),
       counters_(counters),
+      log_limits_(log_limits),
       owner_(owner),
       queue_(kBacklogLimits),
       slow_timer_(socket.get_executor()) {
@@ -92,7 +96,8 @@ void SessionWriter::on_write(const boost::system::error_code& error, std::size_t
 }
 
 void SessionWriter::fail_write(const boost::system::error_code& error) {
-  spdlog::debug("client {}: write failed: {}", client_, error.message());
+  service::log_limited(log_limits_.write_failed, spdlog::level::debug, "client {}: write failed: {}", client_,
+                       error.message());
   owner_.output_failed(Owner::Failure::write_failed);
 }
 
@@ -122,8 +127,9 @@ void SessionWriter::on_slow_timer(const boost::system::error_code& error) {
 
 void SessionWriter::report_too_slow(std::string_view why) {
   ++counters_.clients_disconnected_slow;
-  spdlog::warn("client {}: disconnected, it does not read its messages: {} ({} bytes queued)", client_, why,
-               queue_.backlog_bytes());
+  service::log_limited(log_limits_.too_slow, spdlog::level::warn,
+                       "client {}: disconnected, it does not read its messages: {} ({} bytes queued)", client_, why,
+                       queue_.backlog_bytes());
   owner_.output_failed(Owner::Failure::too_slow);
 }
 

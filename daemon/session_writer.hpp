@@ -19,6 +19,7 @@
 #include "wheeltec/outbound_queue.hpp"
 
 #include "api_counters.hpp"
+#include "api_log_limits.hpp"
 #include "client_state.hpp"
 
 namespace wheeltec::daemon {
@@ -47,7 +48,7 @@ class SessionWriter {
   };
 
   // Makes `socket` non-blocking when it can, so that write() writes at once.
-  SessionWriter(Socket& socket, ClientId client, ApiCounters& counters, Owner& owner);
+  SessionWriter(Socket& socket, ClientId client, ApiCounters& counters, ApiLogLimits& log_limits, Owner& owner);
 
   // Queues a message; may report the client too slow (a full backlog).
   void queue(SharedText text, OutboundQueue::Kind kind);
@@ -72,6 +73,7 @@ class SessionWriter {
   Socket& socket_;
   ClientId client_;
   ApiCounters& counters_;
+  ApiLogLimits& log_limits_;
   Owner& owner_;
 
   State state_ = State::writing;

@@ -43,7 +43,7 @@ std::string status_line(const StatusFields& fields, std::uint64_t clients) {
 json status_to_json(const StatusIdentity& identity, const StatusFields& fields, double uptime_s,
                     std::optional<double> telemetry_age_s) {
   if (telemetry_age_s) telemetry_age_s = round_to(*telemetry_age_s, 1000.0);
-  return json{
+  json status{
       {"version", kVersion},
       {"uptime_s", round_to(uptime_s, 1000.0)},
       {"bus",
@@ -52,7 +52,6 @@ json status_to_json(const StatusIdentity& identity, const StatusFields& fields, 
         {"state", to_string(fields.bus_state)}}},
       {"chassis",
        {{"type", to_string(identity.chassis_type)},
-        {"dialect", to_string(identity.dialect)},
         {"online", fields.online},
         {"telemetry_age_s", optional_json(telemetry_age_s)},
         {"stopped", optional_json(fields.stopped)},
@@ -66,6 +65,9 @@ json status_to_json(const StatusIdentity& identity, const StatusFields& fields, 
         {"owner", optional_json(fields.owner)},
         {"target", {{"vx", fields.target.vx}, {"vy", fields.target.vy}, {"wz", fields.target.wz}}}}},
   };
+  // The dialect is how control frames look on CAN; the serial line has one frame format.
+  if (identity.transport == Transport::can) status["chassis"]["dialect"] = to_string(identity.dialect);
+  return status;
 }
 
 }  // namespace wheeltec::daemon

@@ -45,7 +45,7 @@ struct StatusIdentity {
   Transport transport = Transport::can;
   std::string_view interface;  // the CAN interface or the serial device, as configured
   ChassisType chassis_type = ChassisType::mecanum;
-  Dialect dialect = Dialect::manual;
+  Dialect dialect = Dialect::manual;  // shown on CAN only
 };
 
 double round_battery_v(double volts);  // to 0.01 V

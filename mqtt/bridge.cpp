@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/seconds.hpp"
+#include "wheeltec/service/logging.hpp"
 
 namespace wheeltec::mqtt {
 namespace {
@@ -130,7 +131,8 @@ void Bridge::handle_message(const MqttMessage& message) {
   ParsedCommand parsed = parse_command(*command, message.payload);
   if (const auto* refusal = std::get_if<CommandRefusal>(&parsed)) {
     ++counters_.commands_refused;
-    spdlog::info("refused {} command: {}", command_name(*command), refusal->message);
+    service::log_limited(refused_command_log_, spdlog::level::info, "refused {} command: {}", command_name(*command),
+                         refusal->message);
     send_reply(target, error_reply(*command, refusal->id, error_object(refusal->code, refusal->message)));
     return;
   }
@@ -173,7 +175,7 @@ void Bridge::execute(const CommandRequest& request, const std::string& operator_
 
 void Bridge::send_reply(const ReplyTarget& target, const Json& reply) {
   if (!mqtt_.publish_reply(target.topic, reply.dump(), target.correlation_data)) {
-    spdlog::debug("reply to {} not published", target.topic);
+    service::log_limited(unpublished_reply_log_, spdlog::level::debug, "reply to {} not published", target.topic);
   }
 }
 

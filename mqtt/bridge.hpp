@@ -19,6 +19,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include "wheeltec/client/subscription.hpp"
+#include "wheeltec/log_rate_limiter.hpp"
 
 #include "bridge_config.hpp"
 #include "command.hpp"
@@ -81,6 +82,9 @@ class Bridge {
   TelemetryBacklog backlog_;
   std::optional<std::string> last_status_;
   Counters counters_;
+  // What remote publishers cause: refused commands, replies to topics the broker refuses.
+  LogRateLimiter refused_command_log_;
+  LogRateLimiter unpublished_reply_log_;
   bool stopped_ = false;
 };
 

@@ -24,6 +24,7 @@
 
 #include "wheeltec/client/backoff.hpp"
 #include "wheeltec/seconds.hpp"
+#include "wheeltec/service/logging.hpp"
 
 #include "pacing.hpp"
 
@@ -133,7 +134,9 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
       finish_broken_connection();
       return false;
     }
-    if (rc != MOSQ_ERR_SUCCESS) spdlog::debug("publish on {} failed: {}", topic, error_text(rc));
+    if (rc != MOSQ_ERR_SUCCESS) {
+      service::log_limited(failed_publish_log_, spdlog::level::debug, "publish on {} failed: {}", topic, error_text(rc));
+    }
     watch_writes();
     return rc == MOSQ_ERR_SUCCESS;
   }
@@ -428,6 +431,7 @@ class MqttClient::State : public std::enable_shared_from_this<State> {
   bool writing_ = false;
   std::string refusal_;
   std::vector<Subscription> subscriptions_;
+  LogRateLimiter failed_publish_log_;  // a reply's topic is the remote publisher's choice
 };
 
 MqttClient::MqttClient(boost::asio::any_io_executor executor, const BridgeConfig::Broker& broker, std::string client_id,

@@ -4,6 +4,8 @@
 #include <boost/asio/post.hpp>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/service/logging.hpp"
+
 namespace wheeltec::mqtt {
 
 OperatorSessions::OperatorSessions(boost::asio::any_io_executor executor, std::string socket_path,
@@ -38,10 +40,12 @@ client::OwnConnection& OperatorSessions::open_session(const std::string& operato
   auto& session = sessions_[operator_id];
   session = std::make_unique<client::OwnConnection>(executor_, socket_path_);
   const client::OwnConnection* connection = session.get();
-  spdlog::info("operator \"{}\": opening a daemon connection of its own", operator_id);
+  service::log_limited(opened_log_, spdlog::level::info, "operator \"{}\": opening a daemon connection of its own",
+                       operator_id);
   session->on_close([this, alive = alive_, operator_id, connection](boost::system::error_code ec) {
     if (!*alive) return;
-    spdlog::info("operator \"{}\": the daemon closed its connection ({})", operator_id, ec.message());
+    service::log_limited(closed_log_, spdlog::level::info, "operator \"{}\": the daemon closed its connection ({})",
+                         operator_id, ec.message());
     boost::asio::post(executor_, [this, alive, operator_id, connection] {
       if (*alive) forget(operator_id, connection);
     });
@@ -62,7 +66,8 @@ void OperatorSessions::sweep() {
     const auto now = client::OwnConnection::Clock::now();
     for (auto it = sessions_.begin(); it != sessions_.end();) {
       if (now - it->second->last_used() >= idle_timeout_) {
-        spdlog::info("operator \"{}\": idle, closing its daemon connection", it->first);
+        service::log_limited(closed_log_, spdlog::level::info, "operator \"{}\": idle, closing its daemon connection",
+                             it->first);
         it = sessions_.erase(it);
       } else {
         ++it;

@@ -18,6 +18,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include "wheeltec/client/own_connection.hpp"
+#include "wheeltec/log_rate_limiter.hpp"
 
 namespace wheeltec::mqtt {
 
@@ -51,6 +52,9 @@ class OperatorSessions {
   std::chrono::milliseconds idle_timeout_;
   std::map<std::string, std::unique_ptr<client::OwnConnection>> sessions_;
   boost::asio::steady_timer sweep_timer_;
+  // Remote publishers choose the operator names, so as many sessions as they like.
+  LogRateLimiter opened_log_;
+  LogRateLimiter closed_log_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };
 

@@ -5,6 +5,8 @@
 #include <boost/asio/post.hpp>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/service/logging.hpp"
+
 #include "messages.hpp"
 
 namespace wheeltec::ros2 {
@@ -166,7 +168,8 @@ void Bridge::drive_answered(boost::system::error_code ec, const client::Json& re
   } else {
     message = "wheeltecd: " + ec.message();
   }
-  if (refusals_.note(Clock::now(), message)) spdlog::warn("cmd_vel refused: {}", message);
+  service::log_limited(refusal_log_, spdlog::level::warn, "cmd_vel refused: {}", message);
+  refusals_.note(Clock::now(), std::move(message));
 }
 
 }  // namespace wheeltec::ros2

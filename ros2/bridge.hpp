@@ -64,6 +64,7 @@ class Bridge {
   std::optional<client::Status> status_;  // none while the daemon is unreachable
   Clock::time_point next_voltage_{};
   RefusalRecord refusals_;
+  LogRateLimiter refusal_log_{kRefusalLogBudget};
   BridgeCounters counters_;
   bool write_failure_logged_ = false;
 };

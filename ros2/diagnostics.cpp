@@ -46,12 +46,9 @@ Assessment assess(const client::Status& status) {
 
 }  // namespace
 
-bool RefusalRecord::note(Clock::time_point now, std::string message) {
+void RefusalRecord::note(Clock::time_point now, std::string message) {
   last_ = now;
   message_ = std::move(message);
-  if (last_logged_ && now - *last_logged_ < kLogInterval) return false;
-  last_logged_ = now;
-  return true;
 }
 
 std::optional<std::string> RefusalRecord::shown(Clock::time_point now) const {

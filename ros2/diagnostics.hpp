@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "wheeltec/client/records.hpp"
+#include "wheeltec/log_rate_limiter.hpp"
 
 namespace wheeltec::ros2 {
 
@@ -33,22 +34,21 @@ struct BridgeCounters {
   std::uint64_t drives_refused = 0;
 };
 
-// The daemon's refusals of drives: logged at most once a second, and shown until 2 s after
-// the last one.
+// The daemon's refusals of drives are logged at most once a second.
+inline constexpr LogBudget kRefusalLogBudget{1, std::chrono::seconds(1)};
+
+// The daemon's refusals of drives as `diagnostics` shows them: until 2 s after the last one.
 class RefusalRecord {
  public:
   using Clock = std::chrono::steady_clock;
-  static constexpr Clock::duration kLogInterval = std::chrono::seconds(1);
   static constexpr Clock::duration kShownFor = std::chrono::seconds(2);
 
-  // Records a refusal; true when it is to be logged now.
-  bool note(Clock::time_point now, std::string message);
+  void note(Clock::time_point now, std::string message);
   // The last refusal's message while it is shown.
   std::optional<std::string> shown(Clock::time_point now) const;
 
  private:
   std::optional<Clock::time_point> last_;
-  std::optional<Clock::time_point> last_logged_;
   std::string message_;
 };
 

@@ -10,6 +10,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/service/logging.hpp"
+
 #include "access.hpp"
 #include "foxglove.hpp"
 #include "server.hpp"
@@ -117,7 +119,8 @@ void HttpSession::upgrade(Request request) {
   const auto origin = header(request, http::field::origin);
   const std::string_view host = header(request, http::field::host).value_or("");
   if (!origin_allowed(origin, host, server_.config().allow_origins)) {
-    spdlog::warn("refused a WebSocket from origin {}", std::string(origin->substr(0, 200)));
+    service::log_limited(server_.peer_log().refused_origin, spdlog::level::warn, "refused a WebSocket from origin {}",
+                         std::string(origin->substr(0, 200)));
     return respond_text(http::status::forbidden,
                         fmt::format("origin {} is not allowed (wheeltec-web --allow-origin)", origin->substr(0, 200)),
                         false);

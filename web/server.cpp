@@ -6,6 +6,8 @@
 #include <boost/asio/ip/address.hpp>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/service/logging.hpp"
+
 #include "access.hpp"
 #include "foxglove.hpp"
 #include "http_session.hpp"
@@ -98,9 +100,10 @@ void Server::accept() {
   acceptor_.async_accept([this](boost::system::error_code ec, boost::asio::ip::tcp::socket socket) {
     if (stopped_) return;
     if (ec) {
-      spdlog::warn("accept failed: {}", ec.message());
+      service::log_limited(peer_log_.refused_connection, spdlog::level::warn, "accept failed: {}", ec.message());
     } else if (*connections_ >= connection_limit(config_)) {
-      spdlog::warn("too many connections ({}): refusing one", *connections_);
+      service::log_limited(peer_log_.refused_connection, spdlog::level::warn, "too many connections ({}): refusing one",
+                           *connections_);
       boost::system::error_code ignored;
       socket.close(ignored);
     } else {

@@ -16,6 +16,7 @@
 #include <boost/asio/ssl/context.hpp>
 
 #include "wheeltec/client/subscription.hpp"
+#include "wheeltec/log_rate_limiter.hpp"
 
 #include "static_files.hpp"
 #include "web_config.hpp"
@@ -23,6 +24,20 @@
 namespace wheeltec::web {
 
 class Viewer;
+
+// The log lines a remote peer can cause, each kind under its own limit across all
+// connections (kPeerLogBudget): a scanner or a client in a loop cannot fill the journal.
+struct PeerLogLimits {
+  LogRateLimiter refused_connection;  // too many connections, or accept() failed
+  LogRateLimiter port_probe;          // closed before sending a byte (debug)
+  LogRateLimiter plain_http_on_tls;
+  LogRateLimiter handshake_stalled;
+  LogRateLimiter handshake_failed;
+  LogRateLimiter refused_origin;
+  LogRateLimiter viewer_connected;
+  LogRateLimiter viewer_closed;
+  LogRateLimiter viewer_slow;         // a viewer that does not read: telemetry dropped, then disconnected
+};
 
 class Server {
  public:
@@ -55,6 +70,7 @@ class Server {
   void daemon_call(const std::string& method, client::Json params, client::Connection::CallHandler handler);
   const std::optional<std::string>& latest_status() const { return latest_status_; }
   std::string next_session_id() { return std::to_string(++sessions_); }
+  PeerLogLimits& peer_log() { return peer_log_; }
 
  private:
   void accept();
@@ -76,6 +92,7 @@ class Server {
   std::uint64_t sessions_ = 0;
   std::optional<std::string> latest_status_;
   std::uint64_t records_without_time_ = 0;
+  PeerLogLimits peer_log_;
   bool stopped_ = false;
 };
 

@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/service/logging.hpp"
+
 #include "http_session.hpp"
 #include "server.hpp"
 
@@ -52,7 +54,8 @@ void TlsHandshake::start() {
 }
 
 void TlsHandshake::refuse_plain_http() {
-  spdlog::info("{} sent plain HTTP to the TLS port: answered 400", peer_);
+  service::log_limited(server_.peer_log().plain_http_on_tls, spdlog::level::info,
+                       "{} sent plain HTTP to the TLS port: answered 400", peer_);
   boost::asio::async_write(stream_, boost::asio::buffer(kPlainHttpAnswer),
                            [self = shared_from_this()](beast::error_code, std::size_t) {
                              boost::system::error_code ignored;
@@ -74,12 +77,14 @@ void TlsHandshake::handshake() {
 }
 
 void TlsHandshake::give_up(const char* stage, boost::system::error_code ec) {
+  PeerLogLimits& log = server_.peer_log();
   if (ec == boost::asio::error::eof && buffer_.size() == 0) {
-    spdlog::debug("{} closed without a byte", peer_);  // a port probe
+    service::log_limited(log.port_probe, spdlog::level::debug, "{} closed without a byte", peer_);
   } else if (ec == beast::error::timeout) {
-    spdlog::info("{} stalled {}: dropped after {} s", peer_, stage, kHandshakeTimeout.count());
+    service::log_limited(log.handshake_stalled, spdlog::level::info, "{} stalled {}: dropped after {} s", peer_, stage,
+                         kHandshakeTimeout.count());
   } else {
-    spdlog::info("{} failed {}: {}", peer_, stage, ec.message());
+    service::log_limited(log.handshake_failed, spdlog::level::info, "{} failed {}: {}", peer_, stage, ec.message());
   }
   boost::system::error_code ignored;
   (tls_ ? beast::get_lowest_layer(*tls_) : stream_).socket().close(ignored);

@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/service/logging.hpp"
+
 #include "server.hpp"
 #include "wheeltec/seconds.hpp"
 #include "wheeltec/error_codes.hpp"
@@ -56,8 +58,8 @@ void Viewer::start(beast::http::request<beast::http::string_body> request) {
   ws_.read_message_max(kMaxClientMessage);
   ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
     if (ec) return self->close(fmt::format("handshake failed: {}", ec.message()));
-    spdlog::info("viewer {} ({}) connected, {}", self->id_, self->peer_,
-                 self->may_drive_ ? "may drive" : "read-only");
+    service::log_limited(self->server_.peer_log().viewer_connected, spdlog::level::info, "viewer {} ({}) connected, {}",
+                         self->id_, self->peer_, self->may_drive_ ? "may drive" : "read-only");
     self->enqueue({foxglove::server_info(self->id_, {{"low_battery_v", fmt::format("{}", self->server_.config().low_battery_v)}}),
                    false, false});
     self->enqueue({foxglove::advertise(), false, false});
@@ -215,22 +217,24 @@ void Viewer::enqueue(OutgoingMessage message) {
   const auto now = queue_.timing() ? SendQueue::Clock::now() : SendQueue::Clock::time_point{};
   switch (queue_.push(std::move(message), now)) {
     case SendQueue::Push::overflow:
-      return close("does not read: too many status and control messages waiting");
+      return close("does not read: too many status and control messages waiting", Closing::too_slow);
     case SendQueue::Push::first_drop:
-      spdlog::info("viewer {} ({}) is slow: dropping its oldest telemetry", id_, peer_);
+      service::log_limited(server_.peer_log().viewer_slow, spdlog::level::info,
+                           "viewer {} ({}) is slow: dropping its oldest telemetry", id_, peer_);
       if (queue_.push({foxglove::status(foxglove::Level::warning,
                                         "this viewer is too slow: the oldest telemetry messages are being dropped",
                                         "slow-viewer"),
                        false, false},
                       now) == SendQueue::Push::overflow) {
-        return close("does not read");
+        return close("does not read", Closing::too_slow);
       }
       break;
     default:
       break;
   }
   if (queue_.stalled(now)) {
-    return close(fmt::format("stayed full (dropped {} telemetry messages): disconnected", queue_.dropped()));
+    return close(fmt::format("stayed full (dropped {} telemetry messages): disconnected", queue_.dropped()),
+                 Closing::too_slow);
   }
   if (!writing_) write_next();
 }
@@ -252,10 +256,12 @@ void Viewer::write_next() {
                   });
 }
 
-void Viewer::close(std::string_view reason) {
+void Viewer::close(std::string_view reason, Closing closing) {
   if (closed_) return;
   closed_ = true;
-  spdlog::info("viewer {} ({}) {}", id_, peer_, reason);
+  PeerLogLimits& log = server_.peer_log();
+  service::log_limited(closing == Closing::too_slow ? log.viewer_slow : log.viewer_closed, spdlog::level::info,
+                       "viewer {} ({}) {}", id_, peer_, reason);
   drive_.reset();  // the daemon releases control at once if this viewer held it
   boost::system::error_code ignored;
   ws_.next_layer().tcp().socket().shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);

@@ -50,7 +50,9 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   void publish(const foxglove::ClientPublish& message);
   void enqueue(OutgoingMessage message);
   void write_next();
-  void close(std::string_view reason);
+  // A viewer dropped for not reading is logged apart from one that left: each has its limit.
+  enum class Closing { left, too_slow };
+  void close(std::string_view reason, Closing closing = Closing::left);
 
   Server& server_;
   boost::beast::websocket::stream<WebStream> ws_;

@@ -19,6 +19,7 @@ TEST_F(SerialStatus, BusIsTransportSerialWithTheLinkAsConfiguredAndProtocol3) {
   const Json status = client.call("status");
   EXPECT_EQ(status["bus"], Json({{"transport", "serial"}, {"interface", link_.string()}, {"state", "up"}}))
       << "the symlink's path as configured, not " << fake_->slave_name() << ": " << status.dump();
+  EXPECT_FALSE(status["chassis"].contains("dialect")) << "the serial line has no dialect: " << status.dump();
   const Json version = client.call("version");
   EXPECT_EQ(version["protocol"], 3) << version.dump();
   ASSERT_TRUE(wait_for_status(client, [](const Json& s) { return s["chassis"]["online"] == true; }, 2s)) << logs();

@@ -65,6 +65,17 @@ TEST(CliHumanFormat, StatusNamesTheSerialLink) {
   EXPECT_NE(format_status(status).find("bus:      can0 up\n"), std::string::npos);
 }
 
+TEST(CliHumanFormat, AChassisOnTheSerialLinkHasNoDialect) {
+  Json status = spec_status();
+  status["bus"] = Json{{"transport", "serial"}, {"interface", "/dev/wheeltec_controller"}, {"state", "up"}};
+  status["chassis"].erase("dialect");
+  status["chassis"]["commands_ignored"] = true;
+  const std::string text = format_status(status);
+  EXPECT_NE(text.find("chassis:  mecanum, online (telemetry 0.02 s ago), ready, motors enabled, COMMANDS IGNORED\n"),
+            std::string::npos)
+      << text;
+}
+
 TEST(CliHumanFormat, StatusMarksLowBatteryAndStoppedMotors) {
   Json status = spec_status();
   status["chassis"]["battery_low"] = true;

@@ -1,8 +1,9 @@
 // wheeltec-web over TLS (spec section 6, TLS): npm's Foxglove client over wss:// with a test
 // CA made by openssl, under every rule of the plain server; plain HTTP, garbage, an old
-// protocol and a stalled handshake on the TLS port cost only their connection; a key file
-// others can read is refused; SIGHUP loads a renewed pair for new connections and keeps open
-// viewers. The robot is on the serial link (serial_web.hpp), natively.
+// protocol and a stalled handshake on the TLS port cost only their connection, and a
+// thousand of them only a few log lines; a key file others can read is refused; SIGHUP loads
+// a renewed pair for new connections and keeps open viewers. The robot is on the serial link
+// (serial_web.hpp), natively.
 
 #include <gtest/gtest.h>
 
@@ -136,6 +137,41 @@ TEST_F(WebTls, PlainHttpGarbageOldProtocolsAndStalledHandshakesCostOnlyTheirConn
   EXPECT_NE(log.find("failed in the TLS handshake"), std::string::npos) << log;
   EXPECT_NE(log.find("unsupported protocol"), std::string::npos) << log;
   EXPECT_NE(log.find("stalled before a TLS handshake"), std::string::npos) << log;
+  ASSERT_TRUE(web_->running()) << web_logs();
+}
+
+// What a scanner costs the journal: the failures of one kind are logged 5 at once, then one
+// every 5 s that says how many were suppressed before it (kPeerLogBudget).
+TEST_F(WebTls, AThousandBadHandshakesLeaveAFewLinesAndACount) {
+  start_tls_web();
+  const std::string junk = std::string("\x16\x03\x01\x00\x40\x01\x00\x00\x3c", 9) + std::string(60, '\x5a');
+  constexpr int kFlood = 1000;
+  const auto flood_started = SteadyClock::now();
+  for (int i = 0; i < kFlood; ++i) ASSERT_EQ(exchange(junk).find("HTTP/"), std::string::npos);
+  const double flood_s = serial_tests::seconds_between(flood_started, SteadyClock::now());
+  std::printf("[ figure ] %d bad handshakes in %.1f s\n", kFlood, flood_s);
+
+  // One more once the budget has a line again: that line carries the count of the rest.
+  std::this_thread::sleep_for(5200ms);
+  exchange(junk);
+  std::size_t lines = 0;
+  std::uint64_t suppressed = 0;
+  for (int attempt = 0; attempt < 40; ++attempt) {
+    const std::string log = web_->standard_error();
+    lines = 0;
+    suppressed = 0;
+    for (std::size_t at = log.find("failed in the TLS handshake"); at != std::string::npos;
+         at = log.find("failed in the TLS handshake", at + 1)) {
+      ++lines;
+      const std::string line = log.substr(at, log.find('\n', at) - at);
+      if (line.ends_with(" more suppressed)")) suppressed += std::stoull(line.substr(line.rfind('(') + 1));
+    }
+    if (lines + suppressed >= kFlood + 1) break;
+    std::this_thread::sleep_for(50ms);
+  }
+  EXPECT_LE(lines, 5 + 1 + static_cast<std::size_t>(flood_s / 5.0)) << web_logs();
+  EXPECT_EQ(lines + suppressed, static_cast<std::uint64_t>(kFlood + 1))
+      << "every failed handshake is a line or in a count\n" << web_logs();
   ASSERT_TRUE(web_->running()) << web_logs();
 }
 
