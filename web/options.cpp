@@ -6,6 +6,7 @@
 
 #include "wheeltec/client/connection.hpp"
 #include "wheeltec/command_line.hpp"
+#include "wheeltec/config_checks.hpp"
 #include "wheeltec/service/config_file.hpp"
 
 namespace wheeltec::web {
@@ -53,7 +54,9 @@ WebConfig load_config(const Options& options) {
   }
   try {
     if (options.socket) config.socket = *options.socket;
-    if (options.listen) config.listen = parse_listen_address(*options.listen, "--listen");
+    if (options.listen) {
+      config.listen = config_checks::parse_host_port(*options.listen, "--listen", config_checks::PortUse::listen);
+    }
     if (options.token_file) config.token_file = *options.token_file;
     for (const auto& origin : options.allow_origins) config.allow_origins.push_back(origin);
     if (options.page_dir) config.page_dir = *options.page_dir;
