@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "wheeltec/bridge_flags.hpp"
 #include "wheeltec/types.hpp"
 #include "wheeltec/version.hpp"
 
@@ -49,6 +50,16 @@ CLI::Option* add_log_level_option(CLI::App& app, Level& level,
   return app.add_option("--log-level", level, description)
       ->type_name(names)
       ->check(CLI::IsMember(levels).description(""));
+}
+
+// --version, --config and --socket, first in --help; --log-level last, after the program's own.
+inline void add_bridge_flags(CLI::App& app, BridgeFlags& flags, const std::string& default_config_file) {
+  add_version_flag(app);
+  app.add_option("--config", flags.config_file, "Config file (JSON); default " + default_config_file + " if it exists")
+      ->type_name("FILE");
+  app.add_option("--socket", flags.socket, "wheeltecd's socket, overrides socket; default $WHEELTEC_SOCKET, else the "
+                                           "daemon's")
+      ->type_name("PATH");
 }
 
 enum class LowBound { inclusive, exclusive };
