@@ -32,10 +32,7 @@ ControlLoop::ControlLoop(const ControlPorts& ports, ChassisSupervisor& superviso
   ports_.period_timer.on_tick([this] { on_period(); });
 }
 
-void ControlLoop::changed() {
-  const Observed now = observed();
-  if (now == reported_) return;
-  reported_ = now;
+void ControlLoop::may_have_changed() {
   if (change_handler_) change_handler_();
 }
 
@@ -65,7 +62,7 @@ DriveResult ControlLoop::drive(ClientId client, const Velocity& target) {
   arm_deadman();
   result.sent = supervisor_.target();
   result.clamped = supervisor_.command().clamped;
-  changed();
+  may_have_changed();
   return result;
 }
 
@@ -73,7 +70,7 @@ void ControlLoop::stop() {
   supervisor_.stop();
   cancel_deadman();
   send_command();  // always, even when the target already was zero
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::enable() {
@@ -88,7 +85,7 @@ void ControlLoop::enable() {
   start_periodic();
   ports_.stall_guard.beat();
   start_enable_refresh();
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::disable() {
@@ -100,7 +97,7 @@ void ControlLoop::disable() {
   ports_.stall_guard.disarm();
   ports_.enable_timer.cancel();
   if (was_enabled) spdlog::info("control disabled");
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::client_gone(ClientId client) {
@@ -108,7 +105,7 @@ void ControlLoop::client_gone(ClientId client) {
   spdlog::info("client {} gone while holding control: zero velocity", client);
   cancel_deadman();
   send_command();
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::link_changed(LinkState state) {
@@ -122,8 +119,7 @@ void ControlLoop::link_changed(LinkState state) {
       send_command();
     }
   }
-  changed();
-  if (change_handler_) change_handler_();  // the link's state is in the status too
+  may_have_changed();
 }
 
 void ControlLoop::record(const PhaseInput& record) {
@@ -139,7 +135,6 @@ void ControlLoop::record(const PhaseInput& record) {
   }
   log_command_response(outcome.response_before, outcome.response, config_);
   if (!offline_expiry_) arm_offline_timer();
-  changed();
 }
 
 void ControlLoop::arm_offline_timer() {
@@ -156,7 +151,7 @@ void ControlLoop::arm_offline_timer() {
     }
     spdlog::debug("chassis offline: no telemetry record for {:g} s", config_.telemetry.timeout_s);
     spdlog::info("chassis phase unknown: offline");
-    if (change_handler_) change_handler_();
+    may_have_changed();
   });
 }
 
@@ -189,7 +184,7 @@ void ControlLoop::apply(const GatewayConfig& config) {
     offline_expiry_.reset();
     arm_offline_timer();
   }
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::start_periodic() { ports_.period_timer.start(timer_interval(1.0 / config_.control.rate_hz)); }
@@ -254,7 +249,7 @@ bool ControlLoop::release_if_lapsed() {
                config_.control.command_timeout_s);
   cancel_deadman();
   send_command();
-  changed();
+  may_have_changed();
   return true;
 }
 

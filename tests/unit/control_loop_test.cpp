@@ -256,7 +256,6 @@ TEST_F(ControlLoopTest, TheSameTargetAgainAddsNoFrameBetweenPeriods) {
   loop_.drive(kAlice, kForward);
   loop_.drive(kAlice, kForward);
   EXPECT_TRUE(sim_.take_frames().empty()) << "only a changed target goes out between periods";
-  EXPECT_EQ(changes_, 1);
   loop_.drive(kAlice, {0.1, 0.0, 0.0});
   EXPECT_EQ(velocities(sim_.take_frames()), (std::vector<Velocity>{{0.1, 0.0, 0.0}}));
 }
@@ -357,13 +356,14 @@ TEST_F(ControlLoopTest, StopSendsZeroAtOnceEvenWhenAlreadyZero) {
   start();
   loop_.stop();
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
-  EXPECT_EQ(changes_, 0) << "nothing changed";
+  // Whether the status changed is the gateway's comparison; the loop only says when it may have.
+  EXPECT_EQ(changes_, 1);
   loop_.drive(kAlice, kForward);
   sim_.take_frames();
   loop_.stop();
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
   EXPECT_EQ(supervisor_.owner(), std::nullopt);
-  EXPECT_EQ(changes_, 2);
+  EXPECT_EQ(changes_, 3);
 }
 
 TEST_F(ControlLoopTest, DisableSendsZeroThenDisableAndStopsTheFrames) {
