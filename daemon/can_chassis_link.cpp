@@ -59,7 +59,15 @@ ControlCommand CanChassisLink::frame_command(const ControlCommand& command) cons
 
 bool CanChassisLink::send_command(const ControlCommand& command) {
   if (link_.state() == BusState::down) return false;
-  return link_.send(encode_control_frame(dialect_, frame_command(command)));
+  return link_.send(command_frame(command));
+}
+
+CanFrame CanChassisLink::command_frame(const ControlCommand& command) const {
+  return encode_control_frame(dialect_, frame_command(command));
+}
+
+StallSentinel::ZeroOutput CanChassisLink::zero_output() const {
+  return StallSentinel::CanZero{link_.interface(), command_frame(ControlCommand{})};
 }
 
 void CanChassisLink::send_enable(bool enable) {

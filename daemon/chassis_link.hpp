@@ -13,6 +13,7 @@
 #include "wheeltec/types.hpp"
 
 #include "control_ports.hpp"
+#include "stall_sentinel.hpp"
 
 namespace wheeltec::daemon {
 
@@ -41,6 +42,8 @@ class ChassisLink : public CommandSink {
   virtual BusState state() const = 0;
   virtual Transport transport() const = 0;
   virtual const std::string& name() const = 0;  // the interface or the device, as configured
+  // The zero command in the link's own frame, for the stall sentinel to send in the daemon's place.
+  virtual StallSentinel::ZeroOutput zero_output() const = 0;
   // Its counters into `stats` (the stats object's link keys).
   virtual void add_stats(nlohmann::json& stats) const = 0;
 };

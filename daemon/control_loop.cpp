@@ -49,7 +49,11 @@ void ControlLoop::send_enable(bool enable) {
 void ControlLoop::start() {
   if (!supervisor_.start()) return;
   // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
-  send_command();
+  if (link_sent_zero()) {
+    supervisor_.first_zero_sent();
+  } else {
+    send_command();
+  }
   ports_.stall_guard.start();
   if (config_.control.auto_enable) enable();
 }
@@ -81,7 +85,9 @@ void ControlLoop::enable() {
   if (!supervisor_.enable()) return;
   spdlog::info("control enabled");
   send_enable(true);
-  send_command();
+  // The target is zero here. A link that zeroed the chassis itself when it came up has no
+  // enable frame for a command to follow (the serial line): the periodic frames carry on.
+  if (!ports_.link.zeroes_when_up()) send_command();
   start_periodic();
   ports_.stall_guard.beat();
   start_enable_refresh();
@@ -112,7 +118,10 @@ void ControlLoop::link_changed(LinkState state) {
   const LinkState before = supervisor_.link();
   supervisor_.link_changed(state);
   if (state == LinkState::up && before == LinkState::down) {
-    if (supervisor_.enabled()) {
+    if (link_sent_zero()) {
+      supervisor_.first_zero_sent();
+      if (supervisor_.enabled() && !(supervisor_.command() == ControlCommand{})) send_command();
+    } else if (supervisor_.enabled()) {
       send_enable(true);
       send_command();
     } else if (supervisor_.mode() == ControlMode::awaiting_first_zero) {

@@ -65,6 +65,8 @@ class ControlLoop {
   bool release_if_lapsed();
   void arm_offline_timer();
   void may_have_changed();
+  // The link is up and sent the zero command itself when it came up.
+  bool link_sent_zero() const { return ports_.link.zeroes_when_up() && supervisor_.link() == LinkState::up; }
 
   ControlPorts ports_;
   ChassisSupervisor& supervisor_;
