@@ -37,9 +37,7 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
   app.add_option("--robot", options.robot, "Robot name, the topic level under the prefix; default the host name")
       ->type_name("NAME");
   app.add_option("--prefix", options.prefix, "Topic prefix, default wheeltec")->type_name("PREFIX");
-  command_line::add_log_level_option(app, options.log_level);
-  if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
-  return options;
+  return command_line::parse_bridge_command_line(app, options, argc, argv);
 }
 
 BridgeConfig load_config(const Options& options) {

@@ -34,9 +34,7 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
   app.add_option("--namespace", options.name_space, "ROS namespace of the topics, overrides namespace")
       ->type_name("NS");
   app.add_flag("--no-tf", options.no_tf, "Do not publish tf (when an EKF publishes odom -> base), overrides publish_tf");
-  command_line::add_log_level_option(app, options.log_level);
-  if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
-  return options;
+  return command_line::parse_bridge_command_line(app, options, argc, argv);
 }
 
 Ros2Config load_config(const Options& options) {

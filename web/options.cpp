@@ -31,9 +31,7 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
       ->type_name("FILE");
   app.add_option("--tls-key", options.tls_key, "The certificate's private key (PEM, not readable by others)")
       ->type_name("FILE");
-  command_line::add_log_level_option(app, options.log_level);
-  if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
-  return options;
+  return command_line::parse_bridge_command_line(app, options, argc, argv);
 }
 
 WebConfig load_config(const Options& options) {
