@@ -28,11 +28,14 @@ class SerialChassisLink : public ChassisLink {
   BusState state() const override { return port_.state(); }
   Transport transport() const override { return Transport::serial; }
   const std::string& name() const override { return port_.device(); }
-  StallSentinel::ZeroOutput zero_output() const override { return StallSentinel::SerialZero{zero_frame()}; }
+  StallSentinel::ZeroFrame zero_frame() const override {
+    const serial::CommandFrame frame = zero_command_frame();
+    return {frame.begin(), frame.end()};
+  }
   void add_stats(nlohmann::json& stats) const override;
 
  private:
-  static serial::CommandFrame zero_frame() { return serial::encode_command_frame(ControlCommand{}); }
+  static serial::CommandFrame zero_command_frame() { return serial::encode_command_frame(ControlCommand{}); }
   void on_bytes(std::span<const std::uint8_t> bytes, RealtimeNanos time);
 
   SerialPort port_;

@@ -1,6 +1,7 @@
 // The stall sentinel as a process: it sends the link's zero frame once the daemon's control
 // periods stop while armed, repeats it, and goes quiet when they resume or it is disarmed.
-// The "port" is a pipe here: the sentinel writes the serial zero frame to what it is handed.
+// The link's descriptor is a pipe here: the sentinel writes the serial zero frame to what it
+// is handed.
 
 #include "stall_sentinel.hpp"
 
@@ -60,7 +61,7 @@ class StallSentinelTest : public ::testing::Test {
   }
 
   const serial::CommandFrame zero_ = serial::encode_command_frame(ControlCommand{});
-  StallSentinel sentinel_{StallSentinel::SerialZero{zero_}, kTiming};
+  StallSentinel sentinel_{StallSentinel::ZeroFrame(zero_.begin(), zero_.end()), kTiming};
   int pipe_[2] = {-1, -1};
 };
 
