@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "wheeltec/asio_can/frame_io.hpp"
 #include "wheeltec/dock_report.hpp"
 #include "wheeltec/kinematics.hpp"
 
@@ -26,6 +27,10 @@ void CanChassisLink::start(Handlers handlers) {
   });
   link_.on_state([this](BusState state) {
     if (state == BusState::down) reassembler_.reset();
+    if ((state != BusState::down) != socket_handed_over_) {
+      socket_handed_over_ = state != BusState::down;
+      if (handlers_.port) handlers_.port(socket_handed_over_ ? link_.socket_descriptor() : -1);
+    }
     if (state == BusState::up) check_link_bitrate(link_.interface(), bitrate_);
     if (handlers_.state) handlers_.state(state);
   });
@@ -59,7 +64,17 @@ ControlCommand CanChassisLink::frame_command(const ControlCommand& command) cons
 
 bool CanChassisLink::send_command(const ControlCommand& command) {
   if (link_.state() == BusState::down) return false;
-  return link_.send(encode_control_frame(dialect_, frame_command(command)));
+  return link_.send(command_frame(command));
+}
+
+CanFrame CanChassisLink::command_frame(const ControlCommand& command) const {
+  return encode_control_frame(dialect_, frame_command(command));
+}
+
+StallSentinel::ZeroFrame CanChassisLink::zero_frame() const {
+  const can_frame raw = asio_can::to_socketcan(command_frame(ControlCommand{}));
+  const auto* bytes = reinterpret_cast<const std::uint8_t*>(&raw);
+  return {bytes, bytes + sizeof(raw)};
 }
 
 void CanChassisLink::send_enable(bool enable) {

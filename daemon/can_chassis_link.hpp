@@ -25,9 +25,11 @@ class CanChassisLink : public ChassisLink {
   BusState state() const override { return link_.state(); }
   Transport transport() const override { return Transport::can; }
   const std::string& name() const override { return link_.interface(); }
+  StallSentinel::ZeroFrame zero_frame() const override;
   void add_stats(nlohmann::json& stats) const override;
 
  private:
+  CanFrame command_frame(const ControlCommand& command) const;
   void on_frame(const asio_can::ReceivedFrame& received);
   ControlCommand frame_command(const ControlCommand& command) const;
 
@@ -38,6 +40,7 @@ class CanChassisLink : public ChassisLink {
   CanLink link_;
   TelemetryReassembler reassembler_;
   Handlers handlers_;
+  bool socket_handed_over_ = false;  // handlers_.port has the open socket
 };
 
 }  // namespace wheeltec::daemon

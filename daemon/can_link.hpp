@@ -60,6 +60,8 @@ class CanLink {
   // Sends without blocking; false (and counted) when the kernel does not take the frame.
   // Nothing is queued: the caller's next periodic frame carries the newest target.
   bool send(const CanFrame& frame);
+  // The socket's descriptor while the link is open, else -1.
+  int socket_descriptor() { return socket_.is_open() ? socket_.native_handle() : -1; }
 
   BusState state() const { return state_; }
   const std::string& interface() const { return interface_; }

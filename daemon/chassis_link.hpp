@@ -13,6 +13,7 @@
 #include "wheeltec/types.hpp"
 
 #include "control_ports.hpp"
+#include "stall_sentinel.hpp"
 
 namespace wheeltec::daemon {
 
@@ -27,8 +28,8 @@ class ChassisLink : public CommandSink {
     std::function<void(BusState state)> state;
     // What the records of one read produced can go out together now.
     std::function<void()> batch_handled;
-    // A link over a file (the serial port): its descriptor once open and locked, -1 when it
-    // closes; the stall sentinel writes its zero frame through it.
+    // The link's descriptor (the CAN socket, the serial port locked) once open, -1 when it
+    // closes; the stall sentinel writes the link's zero frame through it.
     std::function<void(int fd)> port;
   };
 
@@ -41,6 +42,9 @@ class ChassisLink : public CommandSink {
   virtual BusState state() const = 0;
   virtual Transport transport() const = 0;
   virtual const std::string& name() const = 0;  // the interface or the device, as configured
+  // The zero command in the link's own frame, as written to its descriptor: for the stall
+  // sentinel to write in the daemon's place.
+  virtual StallSentinel::ZeroFrame zero_frame() const = 0;
   // Its counters into `stats` (the stats object's link keys).
   virtual void add_stats(nlohmann::json& stats) const = 0;
 };

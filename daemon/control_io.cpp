@@ -2,18 +2,7 @@
 
 #include <boost/asio/error.hpp>
 
-#include "wheeltec/serial_frame.hpp"
-
 namespace wheeltec::daemon {
-namespace {
-
-// The zero command as the sentinel sends it on the configured link.
-StallSentinel::ZeroOutput zero_output(const GatewayConfig& config) {
-  if (config.transport == Transport::serial) return StallSentinel::SerialZero{serial::encode_command_frame({})};
-  return StallSentinel::CanZero{config.can.interface, encode_control_frame(config.can.dialect, {})};
-}
-
-}  // namespace
 
 ControlIo::ControlIo(boost::asio::io_context& io, ChassisLink& link, const GatewayConfig& config)
     : link_(link),
@@ -21,7 +10,7 @@ ControlIo::ControlIo(boost::asio::io_context& io, ChassisLink& link, const Gatew
       enable_timer_(io),
       deadman_timer_(io),
       offline_timer_(io),
-      stall_guard_(zero_output(config), config.control.rate_hz) {}
+      stall_guard_(link.zero_frame(), config.control.rate_hz) {}
 
 void ControlIo::AsioTimer::wait_until(MonotonicNanos expiry, Handler handler) {
   const std::uint64_t generation = ++generation_;

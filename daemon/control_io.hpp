@@ -23,7 +23,7 @@ class ControlIo {
   ControlPorts ports() {
     return {clock_, link_, period_timer_, enable_timer_, deadman_timer_, offline_timer_, stall_guard_};
   }
-  // Serial: the port's descriptor for the sentinel (-1: closed).
+  // The link's descriptor for the sentinel (-1: closed).
   void use_port(int fd) { stall_guard_.use_port(fd); }
 
  private:
@@ -47,9 +47,9 @@ class ControlIo {
 
   class SentinelGuard : public StallGuard {
    public:
-    SentinelGuard(StallSentinel::ZeroOutput output, double rate_hz)
-        : sentinel_(std::move(output), StallSentinel::timing_for_rate(rate_hz)) {}
-    // The link may have opened its port before the sentinel existed: it gets it now.
+    SentinelGuard(StallSentinel::ZeroFrame zero, double rate_hz)
+        : sentinel_(std::move(zero), StallSentinel::timing_for_rate(rate_hz)) {}
+    // The link may have opened its descriptor before the sentinel existed: it gets it now.
     void start() override {
       sentinel_.start();
       if (port_fd_ >= 0) sentinel_.use_port(port_fd_);
@@ -64,7 +64,7 @@ class ControlIo {
 
    private:
     StallSentinel sentinel_;
-    int port_fd_ = -1;  // the serial port as last handed over (-1: closed)
+    int port_fd_ = -1;  // the link's descriptor as last handed over (-1: closed)
   };
 
   SteadyClock clock_;

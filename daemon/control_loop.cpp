@@ -33,10 +33,7 @@ ControlLoop::ControlLoop(const ControlPorts& ports, ChassisSupervisor& superviso
   ports_.period_timer.on_tick([this] { on_period(); });
 }
 
-void ControlLoop::changed() {
-  const Observed now = observed();
-  if (now == reported_) return;
-  reported_ = now;
+void ControlLoop::may_have_changed() {
   if (change_handler_) change_handler_();
 }
 
@@ -53,7 +50,11 @@ void ControlLoop::send_enable(bool enable) {
 void ControlLoop::start() {
   if (!supervisor_.start()) return;
   // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
-  send_command();
+  if (link_sent_zero()) {
+    supervisor_.first_zero_sent();
+  } else {
+    send_command();
+  }
   ports_.stall_guard.start();
   if (config_.control.auto_enable) enable();
 }
@@ -66,7 +67,7 @@ DriveResult ControlLoop::drive(ClientId client, const Velocity& target) {
   arm_deadman();
   result.sent = supervisor_.target();
   result.clamped = supervisor_.command().clamped;
-  changed();
+  may_have_changed();
   return result;
 }
 
@@ -74,7 +75,7 @@ void ControlLoop::stop() {
   supervisor_.stop();
   cancel_deadman();
   send_command();  // always, even when the target already was zero
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::enable() {
@@ -85,11 +86,13 @@ void ControlLoop::enable() {
   if (!supervisor_.enable()) return;
   spdlog::info("control enabled");
   send_enable(true);
-  send_command();
+  // The target is zero here. A link that zeroed the chassis itself when it came up has no
+  // enable frame for a command to follow (the serial line): the periodic frames carry on.
+  if (!ports_.link.zeroes_when_up()) send_command();
   start_periodic();
   ports_.stall_guard.beat();
   start_enable_refresh();
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::disable() {
@@ -101,7 +104,7 @@ void ControlLoop::disable() {
   ports_.stall_guard.disarm();
   ports_.enable_timer.cancel();
   if (was_enabled) spdlog::info("control disabled");
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::client_gone(ClientId client) {
@@ -110,22 +113,24 @@ void ControlLoop::client_gone(ClientId client) {
                        "client {} gone while holding control: zero velocity", client);
   cancel_deadman();
   send_command();
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::link_changed(LinkState state) {
   const LinkState before = supervisor_.link();
   supervisor_.link_changed(state);
   if (state == LinkState::up && before == LinkState::down) {
-    if (supervisor_.enabled()) {
+    if (link_sent_zero()) {
+      supervisor_.first_zero_sent();
+      if (supervisor_.enabled() && !(supervisor_.command() == ControlCommand{})) send_command();
+    } else if (supervisor_.enabled()) {
       send_enable(true);
       send_command();
     } else if (supervisor_.mode() == ControlMode::awaiting_first_zero) {
       send_command();
     }
   }
-  changed();
-  if (change_handler_) change_handler_();  // the link's state is in the status too
+  may_have_changed();
 }
 
 void ControlLoop::record(const PhaseInput& record) {
@@ -141,7 +146,6 @@ void ControlLoop::record(const PhaseInput& record) {
   }
   log_command_response(outcome.response_before, outcome.response, config_);
   if (!offline_expiry_) arm_offline_timer();
-  changed();
 }
 
 void ControlLoop::arm_offline_timer() {
@@ -158,7 +162,7 @@ void ControlLoop::arm_offline_timer() {
     }
     spdlog::debug("chassis offline: no telemetry record for {:g} s", config_.telemetry.timeout_s);
     spdlog::info("chassis phase unknown: offline");
-    if (change_handler_) change_handler_();
+    may_have_changed();
   });
 }
 
@@ -191,7 +195,7 @@ void ControlLoop::apply(const GatewayConfig& config) {
     offline_expiry_.reset();
     arm_offline_timer();
   }
-  changed();
+  may_have_changed();
 }
 
 void ControlLoop::start_periodic() { ports_.period_timer.start(timer_interval(1.0 / config_.control.rate_hz)); }
@@ -257,7 +261,7 @@ bool ControlLoop::release_if_lapsed() {
                        config_.control.command_timeout_s);
   cancel_deadman();
   send_command();
-  changed();
+  may_have_changed();
   return true;
 }
 

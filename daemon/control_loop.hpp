@@ -27,7 +27,9 @@ struct DriveResult {
 // then disable on shutdown; and, while control is enabled, the stall guard's heartbeat.
 class ControlLoop {
  public:
-  using ChangeHandler = std::function<void()>;  // something the status shows changed
+  // Something the status shows may have changed; the handler compares the status (the one
+  // place that does). Not called for record(): its caller compares after every record.
+  using ChangeHandler = std::function<void()>;
 
   // The ports and the supervisor must outlive the loop.
   ControlLoop(const ControlPorts& ports, ChassisSupervisor& supervisor, const GatewayConfig& config);
@@ -63,18 +65,9 @@ class ControlLoop {
   // If the owner's deadline has passed: zero frame, control released; true if so.
   bool release_if_lapsed();
   void arm_offline_timer();
-  // Calls the change handler if control's part of the status (enabled, owner, target)
-  // changed since it last did.
-  void changed();
-
-  // Control's part of the status, as last reported.
-  struct Observed {
-    bool enabled = false;
-    std::optional<ClientId> owner;
-    Velocity target;
-    friend bool operator==(const Observed&, const Observed&) = default;
-  };
-  Observed observed() const { return {supervisor_.enabled(), supervisor_.owner(), supervisor_.target()}; }
+  void may_have_changed();
+  // The link is up and sent the zero command itself when it came up.
+  bool link_sent_zero() const { return ports_.link.zeroes_when_up() && supervisor_.link() == LinkState::up; }
 
   ControlPorts ports_;
   ChassisSupervisor& supervisor_;
@@ -86,7 +79,6 @@ class ControlLoop {
   MonotonicNanos next_enable_{};
   std::optional<MonotonicNanos> deadman_expiry_;  // of the deadman timer's wait under way
   std::optional<MonotonicNanos> offline_expiry_;  // of the offline timer's wait under way
-  Observed reported_;
   ChangeHandler change_handler_;
 };
 

@@ -14,7 +14,7 @@ void SerialChassisLink::start(Handlers handlers) {
     finder_.reset();
     // The controller keeps running its last command: whatever held the port before us (or
     // we ourselves before an unplug) may have left it driving.
-    port_.write(serial::encode_command_frame(ControlCommand{}));
+    port_.write(zero_command_frame());
     if (handlers_.port) handlers_.port(fd);
   });
   port_.on_closing([this] {

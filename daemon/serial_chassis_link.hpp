@@ -24,12 +24,18 @@ class SerialChassisLink : public ChassisLink {
   bool send_command(const ControlCommand& command) override;
   void send_enable(bool) override {}  // the serial line has no handshake
   bool refreshes_enable() const override { return false; }
+  bool zeroes_when_up() const override { return true; }
   BusState state() const override { return port_.state(); }
   Transport transport() const override { return Transport::serial; }
   const std::string& name() const override { return port_.device(); }
+  StallSentinel::ZeroFrame zero_frame() const override {
+    const serial::CommandFrame frame = zero_command_frame();
+    return {frame.begin(), frame.end()};
+  }
   void add_stats(nlohmann::json& stats) const override;
 
  private:
+  static serial::CommandFrame zero_command_frame() { return serial::encode_command_frame(ControlCommand{}); }
   void on_bytes(std::span<const std::uint8_t> bytes, RealtimeNanos time);
 
   SerialPort port_;

@@ -1,8 +1,5 @@
 #include "stall_sentinel.hpp"
 
-#include <linux/can.h>
-#include <linux/can/raw.h>
-#include <net/if.h>
 #include <poll.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
@@ -17,7 +14,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
-#include <optional>
 #include <thread>
 
 #include <spdlog/spdlog.h>
@@ -38,57 +34,13 @@ constexpr auto kPoll = std::chrono::milliseconds(100);
 // The fd the sentinel keeps its end of the port channel on, all others closed.
 constexpr int kChannelFd = 3;
 
-// The sentinel's CAN socket, opened when first needed and again after a failure (the
-// interface may have been re-created meanwhile).
-class CanZeroSender {
+// The link's descriptor as the daemon last handed it over (none while it is closed).
+class ZeroSender {
  public:
-  explicit CanZeroSender(const StallSentinel::CanZero& zero) : interface_(zero.interface) {
-    std::memset(&frame_, 0, sizeof(frame_));
-    frame_.can_id = zero.frame.id;
-    frame_.can_dlc = zero.frame.dlc;
-    std::memcpy(frame_.data, zero.frame.data.data(), sizeof(frame_.data));
-  }
-  ~CanZeroSender() { close(); }
+  explicit ZeroSender(const StallSentinel::ZeroFrame& zero) : frame_(zero) {}
+  ~ZeroSender() { drop_port(); }
 
-  bool send() {
-    if (fd_ < 0 && !open()) return false;
-    if (::send(fd_, &frame_, sizeof(frame_), MSG_DONTWAIT) == static_cast<ssize_t>(sizeof(frame_))) return true;
-    close();
-    return false;
-  }
-
- private:
-  bool open() {
-    const unsigned ifindex = ::if_nametoindex(interface_.c_str());
-    if (ifindex == 0) return false;
-    fd_ = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
-    if (fd_ < 0) return false;
-    ::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, nullptr, 0);  // sends only
-    sockaddr_can address;
-    std::memset(&address, 0, sizeof(address));
-    address.can_family = AF_CAN;
-    address.can_ifindex = static_cast<int>(ifindex);
-    if (::bind(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0) return true;
-    close();
-    return false;
-  }
-  void close() {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = -1;
-  }
-
-  std::string interface_;
-  can_frame frame_;
-  int fd_ = -1;
-};
-
-// The serial port as the daemon last handed it over (none while it is closed).
-class SerialZeroSender {
- public:
-  explicit SerialZeroSender(const StallSentinel::SerialZero& zero) : frame_(zero.frame) {}
-  ~SerialZeroSender() { drop_port(); }
-
-  // Takes what the daemon sent on the channel: a new port, or word that it closed.
+  // Takes what the daemon sent on the channel: a new descriptor, or word that it closed.
   void take_messages(int channel) {
     for (;;) {
       char tag = 0;
@@ -120,7 +72,7 @@ class SerialZeroSender {
     fd_ = -1;
   }
 
-  serial::CommandFrame frame_;
+  StallSentinel::ZeroFrame frame_;
   int fd_ = -1;
 };
 
@@ -138,7 +90,7 @@ StallSentinel::Timing StallSentinel::timing_for_rate(double rate_hz) {
   return Timing{std::max<std::chrono::milliseconds>(kStallDelay, kStallPeriods * period), period, kPoll};
 }
 
-StallSentinel::StallSentinel(ZeroOutput output, Timing timing) : output_(std::move(output)), timing_(timing) {}
+StallSentinel::StallSentinel(ZeroFrame zero, Timing timing) : zero_(std::move(zero)), timing_(timing) {}
 
 StallSentinel::~StallSentinel() {
   if (pid_ > 0) {
@@ -169,7 +121,7 @@ void StallSentinel::use_port(int fd) noexcept {
   if (::sendmsg(port_channel_, &message, MSG_DONTWAIT | MSG_NOSIGNAL) < 0) {
     // EPIPE: the sentinel is gone already (a stop signal sent to the whole unit).
     const auto level = errno == EPIPE ? spdlog::level::debug : spdlog::level::warn;
-    spdlog::log(level, "stall sentinel: cannot hand over the serial port: {}", std::strerror(errno));
+    spdlog::log(level, "stall sentinel: cannot hand over the link's descriptor: {}", std::strerror(errno));
   }
 }
 
@@ -185,16 +137,15 @@ bool StallSentinel::start() {
   shared_ = new (memory) Shared;
   retime(timing_);
   int channel[2] = {-1, -1};
-  if (std::holds_alternative<SerialZero>(output_) &&
-      ::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, channel) != 0) {
-    spdlog::warn("stall sentinel: no channel for the serial port: {}; a hung daemon leaves the chassis at its "
+  if (::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, channel) != 0) {
+    spdlog::warn("stall sentinel: no channel for the link's descriptor: {}; a hung daemon leaves the chassis at its "
                  "last command until the watchdog restarts it",
                  std::strerror(errno));
   }
   const pid_t daemon = ::getpid();
   std::fflush(nullptr);
   pid_ = ::fork();
-  if (pid_ == 0) run(*shared_, output_, channel[1], timing_.poll, daemon);
+  if (pid_ == 0) run(*shared_, zero_, channel[1], timing_.poll, daemon);
   if (channel[1] >= 0) ::close(channel[1]);
   port_channel_ = channel[0];
   if (pid_ < 0) {
@@ -217,7 +168,7 @@ void StallSentinel::retime(Timing timing) noexcept {
   shared_->repeat_ms.store(timing.repeat.count(), std::memory_order_relaxed);
 }
 
-void StallSentinel::run(Shared& shared, const ZeroOutput& output, int port_channel, std::chrono::milliseconds poll,
+void StallSentinel::run(Shared& shared, const ZeroFrame& zero, int port_channel, std::chrono::milliseconds poll,
                         pid_t daemon) {
   // Dies with the daemon; holds none of its sockets (a client's connection must close when
   // the daemon closes it) and none of its signal handlers.
@@ -231,19 +182,15 @@ void StallSentinel::run(Shared& shared, const ZeroOutput& output, int port_chann
   for (const int signal_number : {SIGTERM, SIGINT, SIGHUP}) std::signal(signal_number, SIG_DFL);
   ::prctl(PR_SET_NAME, "wheeltecd-stall");
 
-  std::optional<CanZeroSender> can;
-  std::optional<SerialZeroSender> serial_port;
-  if (const auto* zero = std::get_if<CanZero>(&output)) can.emplace(*zero);
-  if (const auto* zero = std::get_if<SerialZero>(&output)) serial_port.emplace(*zero);
+  ZeroSender sender(zero);
   const auto wait = [&](std::chrono::milliseconds interval) {
     if (channel < 0) {
       std::this_thread::sleep_for(interval);
       return;
     }
     pollfd readable{channel, POLLIN, 0};
-    if (::poll(&readable, 1, static_cast<int>(interval.count())) > 0) serial_port->take_messages(channel);
+    if (::poll(&readable, 1, static_cast<int>(interval.count())) > 0) sender.take_messages(channel);
   };
-  const auto send_zero = [&] { return can ? can->send() : serial_port->send(); };
   std::uint64_t seen = shared.beats.load(std::memory_order_acquire);
   auto moved = Clock::now();
   bool stalled = false;
@@ -264,7 +211,7 @@ void StallSentinel::run(Shared& shared, const ZeroOutput& output, int port_chann
     if (now - moved < delay) continue;
     if (!stalled) report("the daemon sent no control frame for too long: sending zero velocity in its place");
     stalled = true;
-    send_zero();
+    sender.send();
   }
 }
 

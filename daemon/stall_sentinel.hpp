@@ -5,11 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
-#include <string>
-#include <variant>
-
-#include "wheeltec/can_frame.hpp"
-#include "wheeltec/serial_frame.hpp"
+#include <vector>
 
 namespace wheeltec::daemon {
 
@@ -21,11 +17,11 @@ namespace wheeltec::daemon {
 //
 // The daemon counts its control periods in memory shared with the sentinel (no system
 // call); the sentinel looks every `poll` and, once the count has not moved for `delay`
-// while armed, sends the zero frame every `repeat` until the count moves again: on CAN
-// through a socket of its own, on the serial line through the port's descriptor, which
-// the daemon hands over (SCM_RIGHTS) each time it opens the port; a write of 11 bytes to a
-// tty is not split by the daemon's own writes. It dies with the daemon (PR_SET_PDEATHSIG)
-// and holds none of its other files.
+// while armed, writes the link's zero frame every `repeat` until the count moves again,
+// through the link's own descriptor (the CAN socket, the serial port), which the daemon
+// hands over (SCM_RIGHTS) each time the link opens it: one write is one whole frame, not
+// split by the daemon's own writes. It dies with the daemon (PR_SET_PDEATHSIG) and holds
+// none of its other files.
 class StallSentinel {
  public:
   struct Timing {
@@ -34,17 +30,11 @@ class StallSentinel {
     std::chrono::milliseconds poll;
   };
 
-  // What the sentinel sends in the daemon's place.
-  struct CanZero {
-    std::string interface;
-    CanFrame frame;
-  };
-  struct SerialZero {
-    serial::CommandFrame frame;
-  };
-  using ZeroOutput = std::variant<CanZero, SerialZero>;
+  // What the sentinel writes in the daemon's place: the link's zero frame, as the link
+  // writes it to its descriptor.
+  using ZeroFrame = std::vector<std::uint8_t>;
 
-  StallSentinel(ZeroOutput output, Timing timing);
+  StallSentinel(ZeroFrame zero, Timing timing);
   ~StallSentinel();  // stops the sentinel process
   StallSentinel(const StallSentinel&) = delete;
   StallSentinel& operator=(const StallSentinel&) = delete;
@@ -58,7 +48,7 @@ class StallSentinel {
     shared_->armed.store(1, std::memory_order_relaxed);
     shared_->beats.fetch_add(1, std::memory_order_release);
   }
-  // Serial: the port's descriptor, open and locked; -1 when the daemon closes it.
+  // The link's descriptor once open (the serial port locked); -1 when the daemon closes it.
   void use_port(int fd) noexcept;
   // The control rate changed: the sentinel's delay and repeat follow it.
   void retime(Timing timing) noexcept;
@@ -79,11 +69,11 @@ class StallSentinel {
   };
   static_assert(std::atomic<std::uint64_t>::is_always_lock_free, "shared between processes");
 
-  [[noreturn]] static void run(Shared& shared, const ZeroOutput& output, int port_channel,
-                               std::chrono::milliseconds poll, pid_t daemon);
+  [[noreturn]] static void run(Shared& shared, const ZeroFrame& zero, int port_channel, std::chrono::milliseconds poll,
+                               pid_t daemon);
 
-  ZeroOutput output_;
-  int port_channel_ = -1;  // the daemon's end of the socket pair that carries the serial port
+  ZeroFrame zero_;
+  int port_channel_ = -1;  // the daemon's end of the socket pair that carries the link's descriptor
   Timing timing_;
   Shared* shared_ = nullptr;
   pid_t pid_ = -1;

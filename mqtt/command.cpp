@@ -9,9 +9,6 @@
 namespace wheeltec::mqtt {
 namespace {
 
-// Deeper than any command; deeper containers are dropped while parsing.
-constexpr int kMaxDepth = 8;
-
 CommandRefusal refuse(int code, std::string message, Json id = nullptr) {
   return CommandRefusal{code, std::move(message), std::move(id)};
 }
@@ -27,25 +24,22 @@ ParsedCommand parse_command(Command command, std::string_view payload) {
   }
   Json document = Json::object();
   if (!payload.empty()) {
-    json_text::Findings findings;
-    try {
-      document = json_text::parse(payload, findings, kMaxDepth);
-    } catch (const nlohmann::json::exception& error) {
+    json_text::StrictRead read = json_text::read_strict(payload, json_text::kMaxMessageDepth);
+    using Reason = json_text::Refusal::Reason;
+    if (read.refusal && read.refusal->reason != Reason::duplicate_key) {
       if (lenient) return request;
-      if (!findings.too_deep) return refuse(kParseError, "payload is not JSON: " + json_text::message(error));
+      if (read.refusal->reason == Reason::not_json) {
+        return refuse(kParseError, "payload is not JSON: " + read.refusal->message);
+      }
+      return refuse(kInvalidRequest, "payload " + read.refusal->message);
     }
-    if (findings.too_deep) {
+    if (!read.document.is_object()) {
       if (lenient) return request;
-      return refuse(kInvalidRequest, "payload nested deeper than " + std::to_string(kMaxDepth) + " levels");
+      return refuse(kInvalidRequest, std::string("payload must be a JSON object, got ") + read.document.type_name());
     }
-    if (!document.is_object()) {
-      if (lenient) return request;
-      return refuse(kInvalidRequest, std::string("payload must be a JSON object, got ") + document.type_name());
-    }
-    // A command that says two things is not guessed at.
-    if (findings.duplicate_key && !lenient) {
-      return refuse(kInvalidRequest, "duplicate key \"" + json_text::printable(*findings.duplicate_key) + "\"");
-    }
+    // A command that says two things is not guessed at; a stop reads the last of them.
+    if (read.refusal && !lenient) return refuse(kInvalidRequest, read.refusal->message);
+    document = std::move(read.document);
   }
 
   if (const auto id = document.find("id"); id != document.end()) {

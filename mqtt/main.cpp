@@ -1,51 +1,12 @@
 // wheeltec-mqtt: bridges one robot's wheeltecd to an MQTT broker (spec section 7).
 // Exit codes: 0 on a clean stop, 2 on bad usage or configuration, 1 on other failures.
 
-#include <csignal>
-#include <exception>
-#include <iostream>
-#include <variant>
-
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/signal_set.hpp>
-#include <spdlog/spdlog.h>
+#include "wheeltec/service/program.hpp"
 
 #include "bridge.hpp"
-#include "wheeltec/service/logging.hpp"
 #include "options.hpp"
 
 int main(int argc, char** argv) {
   using namespace wheeltec::mqtt;
-  std::signal(SIGPIPE, SIG_IGN);
-
-  auto parsed = parse_command_line(argc, argv);
-  if (const int* exit_code = std::get_if<int>(&parsed)) return *exit_code;
-  const Options options = std::get<Options>(std::move(parsed));
-
-  BridgeConfig config;
-  try {
-    config = load_config(options);
-  } catch (const wheeltec::ConfigError& error) {
-    std::cerr << "wheeltec-mqtt: " << error.what() << "\n";
-    return 2;
-  }
-
-  wheeltec::service::setup_logging(config.log.level, "wheeltec-mqtt");
-  try {
-    boost::asio::io_context io{1};
-    Bridge bridge(io, std::move(config));
-    boost::asio::signal_set signals(io, SIGTERM, SIGINT);
-    signals.async_wait([&](boost::system::error_code ec, int signal) {
-      if (ec) return;
-      spdlog::info("signal {}: stopping", signal);
-      bridge.stop();
-      io.stop();
-    });
-    bridge.start();
-    io.run();
-    return 0;
-  } catch (const std::exception& error) {
-    std::cerr << "wheeltec-mqtt: " << error.what() << "\n";
-    return 1;
-  }
+  return wheeltec::service::run_bridge<Bridge>("wheeltec-mqtt", argc, argv, parse_command_line, load_config);
 }

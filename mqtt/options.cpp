@@ -14,6 +14,7 @@
 #include "wheeltec/client/connection.hpp"
 #include "wheeltec/command_line.hpp"
 #include "wheeltec/service/config_file.hpp"
+#include "wheeltec/service/layered_config.hpp"
 
 #include "topics.hpp"
 
@@ -31,43 +32,25 @@ std::string host_name() {
 std::variant<Options, int> parse_command_line(int argc, char** argv) {
   Options options;
   CLI::App app{"wheeltec-mqtt: bridges a WHEELTEC robot's wheeltecd to an MQTT broker", "wheeltec-mqtt"};
-  command_line::add_version_flag(app);
-  app.add_option("--config", options.config_file,
-                 fmt::format("Config file (JSON, not readable by others); default {} if it exists", kDefaultConfigFile))
-      ->type_name("FILE");
-  app.add_option("--socket", options.socket, "wheeltecd's socket, overrides socket")->type_name("PATH");
+  command_line::add_bridge_flags(app, options, kDefaultConfigFile);
   app.add_option("--broker", options.broker, "Broker address, overrides broker.host and broker.port")->type_name("HOST:PORT");
   app.add_option("--robot", options.robot, "Robot name, the topic level under the prefix; default the host name")
       ->type_name("NAME");
   app.add_option("--prefix", options.prefix, "Topic prefix, default wheeltec")->type_name("PREFIX");
-  command_line::add_log_level_option(app, options.log_level);
-  if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
-  return options;
+  return command_line::parse_bridge_command_line(app, options, argc, argv);
 }
 
 BridgeConfig load_config(const Options& options) {
-  BridgeConfig config;
-  config.socket = client::socket_path_from_environment();  // as wheeltecctl finds it
-  const std::optional<std::string> file = service::config_file_to_load(options.config_file, kDefaultConfigFile);
-  if (file) {
-    const std::string text = service::read_config_file(*file, service::ConfigSecrecy::private_);
-    try {
-      apply_bridge_config(parse_config_document(text), config);
-      validate_bridge_config(config);
-    } catch (const ConfigError& error) {
-      throw ConfigError(fmt::format("{}: {}", *file, error.what()));
-    }
-  }
-  try {
-    if (options.socket) config.socket = *options.socket;
-    if (options.robot) config.robot = *options.robot;
-    if (options.prefix) config.prefix = *options.prefix;
-    if (options.log_level) config.log.level = *options.log_level;
-    if (options.broker) apply_broker_address(*options.broker, config, "--broker");
-    validate_bridge_config(config);
-  } catch (const ConfigError& error) {
-    throw ConfigError(fmt::format("command line: {}", error.what()));
-  }
+  BridgeConfig defaults;
+  defaults.socket = client::socket_path_from_environment();  // as wheeltecctl finds it
+  // The file may hold the broker's password: one that others may read is refused.
+  const service::ConfigLayers<BridgeConfig> layers{kDefaultConfigFile, service::ConfigSecrecy::private_,
+                                                   apply_bridge_config, validate_bridge_config};
+  BridgeConfig config = service::load_layered_config(std::move(defaults), options, layers, [&](BridgeConfig& flagged) {
+    if (options.robot) flagged.robot = *options.robot;
+    if (options.prefix) flagged.prefix = *options.prefix;
+    if (options.broker) apply_broker_address(*options.broker, flagged, "--broker");
+  });
   if (!config.robot) {
     const std::string name = host_name();
     if (auto problem = robot_name_problem(name)) {

@@ -4,6 +4,8 @@
 #include <string>
 #include <variant>
 
+#include "wheeltec/bridge_flags.hpp"
+
 #include "bridge_config.hpp"
 
 namespace wheeltec::mqtt {
@@ -11,13 +13,10 @@ namespace wheeltec::mqtt {
 inline constexpr const char* kDefaultConfigFile = "/etc/wheeltec-mqtt/wheeltec-mqtt.json";
 
 // The command line of wheeltec-mqtt (spec section 7). Flags that were not given are empty.
-struct Options {
-  std::optional<std::string> config_file;
-  std::optional<std::string> socket;
+struct Options : command_line::BridgeFlags {
   std::optional<std::string> broker;  // HOST:PORT
   std::optional<std::string> robot;
   std::optional<std::string> prefix;
-  std::optional<std::string> log_level;
 };
 
 // On --help or --version the result is exit code 0; on bad usage a one-line error goes to

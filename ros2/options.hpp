@@ -4,6 +4,8 @@
 #include <string>
 #include <variant>
 
+#include "wheeltec/bridge_flags.hpp"
+
 #include "ros2_config.hpp"
 
 namespace wheeltec::ros2 {
@@ -11,14 +13,11 @@ namespace wheeltec::ros2 {
 inline constexpr const char* kDefaultConfigFile = "/etc/wheeltec-ros2/wheeltec-ros2.json";
 
 // The command line of wheeltec-ros2 (spec section 9). Flags that were not given are empty.
-struct Options {
-  std::optional<std::string> config_file;
-  std::optional<std::string> socket;
+struct Options : command_line::BridgeFlags {
   std::optional<int> domain_id;
   bool localhost_only = false;
   std::optional<std::string> name_space;
   bool no_tf = false;
-  std::optional<std::string> log_level;
 };
 
 // On --help or --version the result is exit code 0; on bad usage a one-line error goes to

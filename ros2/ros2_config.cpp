@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "wheeltec/config_checks.hpp"
 #include "wheeltec/config_fields.hpp"
-#include "wheeltec/types.hpp"
 
 namespace wheeltec::ros2 {
 namespace {
@@ -95,8 +95,7 @@ void apply_ros2_config(const json& document, Ros2Config& config) {
 }
 
 void validate_ros2_config(const Ros2Config& config) {
-  if (config.socket.empty()) fail("socket", "must not be empty");
-  if (config.socket.size() >= 108) fail("socket", "longer than a Unix socket path may be (107 bytes)");
+  config_checks::check_socket_path(config.socket, "socket");
   if (config.domain_id < 0 || config.domain_id > kMaxDomainId) {
     fail("domain_id", fmt::format("must be an integer in [0, {}], got {}", kMaxDomainId, config.domain_id));
   }
@@ -109,9 +108,7 @@ void validate_ros2_config(const Ros2Config& config) {
   check_diagonal(config.covariance.orientation, "covariance.orientation");
   check_diagonal(config.covariance.angular_velocity, "covariance.angular_velocity");
   check_diagonal(config.covariance.linear_acceleration, "covariance.linear_acceleration");
-  bool known_level = false;
-  for (std::string_view level : kLogLevels) known_level = known_level || level == config.log.level;
-  if (!known_level) fail("log.level", "must be one of trace, debug, info, warn, error, got \"" + config.log.level + "\"");
+  config_checks::check_log_level(config.log.level);
 }
 
 void apply_ros_environment(const RosEnvironment& environment, Ros2Config& config) {

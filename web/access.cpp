@@ -4,9 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 
-#include "wheeltec/config.hpp"
 
 namespace wheeltec::web {
 namespace {
@@ -135,24 +133,5 @@ bool offers_subprotocol(std::string_view header, std::string_view protocol) {
 }
 
 std::string token_from_file_content(std::string_view content) { return std::string(trim(content)); }
-
-ListenAddress parse_listen_address(std::string_view text, const std::string& key) {
-  const auto colon = text.rfind(':');
-  if (colon == std::string_view::npos || colon == 0) {
-    throw ConfigError(key, "expected ADDR:PORT, got \"" + std::string(text) + "\"");
-  }
-  std::string_view address = text.substr(0, colon);
-  if (address.front() == '[') {
-    if (address.size() < 3 || address.back() != ']') throw ConfigError(key, "an IPv6 address goes in brackets: [::1]:8080");
-    address = address.substr(1, address.size() - 2);
-  }
-  const std::string_view port_text = text.substr(colon + 1);
-  unsigned port = 0;
-  const auto [end, error] = std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
-  if (port_text.empty() || error != std::errc() || end != port_text.data() + port_text.size() || port > 65535) {
-    throw ConfigError(key, "port must be an integer in [0, 65535], got \"" + std::string(port_text) + "\"");
-  }
-  return {std::string(address), static_cast<std::uint16_t>(port)};
-}
 
 }  // namespace wheeltec::web

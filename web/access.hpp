@@ -3,7 +3,6 @@
 // Who may do what on wheeltec-web (spec section 6): the driving token, the Origin check
 // of WebSocket upgrades, and the parts of a request target they read. Pure: no I/O.
 
-#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -40,12 +39,5 @@ bool offers_subprotocol(std::string_view header, std::string_view protocol);
 
 // The token file's content with surrounding whitespace stripped.
 std::string token_from_file_content(std::string_view content);
-
-struct ListenAddress {
-  std::string address;
-  std::uint16_t port;
-};
-// "ADDR:PORT" or "[IPv6]:PORT"; throws ConfigError naming `key`.
-ListenAddress parse_listen_address(std::string_view text, const std::string& key);
 
 }  // namespace wheeltec::web

@@ -11,24 +11,14 @@
 namespace wheeltec::web::foxglove {
 namespace {
 
-// Deeper than any client message of the protocol.
-constexpr int kMaxDepth = 8;
-
-// A client's JSON text, read as the daemon reads its requests: containers nested deeper
-// than kMaxDepth and keys given twice are refused, not guessed at.
+// A client's JSON text, read as the daemon reads its requests.
 std::variant<Json, ProtocolError> read_json(std::string_view text, std::string_view what) {
-  json_text::Findings findings;
-  Json document;
-  try {
-    document = json_text::parse(text, findings, kMaxDepth);
-  } catch (const nlohmann::json::exception& error) {
-    if (!findings.too_deep) return ProtocolError{fmt::format("{}not JSON: {}", what, json_text::message(error))};
+  json_text::StrictRead read = json_text::read_strict(text, json_text::kMaxMessageDepth);
+  if (!read.refusal) return std::move(read.document);
+  if (read.refusal->reason == json_text::Refusal::Reason::not_json) {
+    return ProtocolError{fmt::format("{}not JSON: {}", what, read.refusal->message)};
   }
-  if (findings.too_deep) return ProtocolError{fmt::format("{}nested deeper than {} levels", what, kMaxDepth)};
-  if (findings.duplicate_key) {
-    return ProtocolError{fmt::format("{}duplicate key \"{}\"", what, json_text::printable(*findings.duplicate_key))};
-  }
-  return document;
+  return ProtocolError{fmt::format("{}{}", what, read.refusal->message)};
 }
 
 Json number_object(std::initializer_list<const char*> keys) {

@@ -2,22 +2,19 @@
 // section 6, docs/web.md). Exit codes: 0 on a clean stop, 2 on bad usage or configuration,
 // 1 on other failures.
 
-#include <csignal>
-#include <exception>
-#include <functional>
 #include <filesystem>
-#include <iostream>
-#include <variant>
+#include <memory>
+#include <optional>
+#include <string>
 
 #include <boost/asio/io_context.hpp>
-#include <boost/asio/signal_set.hpp>
-#include <spdlog/spdlog.h>
 
 #include "options.hpp"
 #include "server.hpp"
 #include "static_files.hpp"
 #include "tls_context.hpp"
 #include "wheeltec/service/logging.hpp"
+#include "wheeltec/service/program.hpp"
 
 #ifndef WHEELTEC_WEB_PAGE_DIR
 #define WHEELTEC_WEB_PAGE_DIR "/usr/share/wheeltec-web"
@@ -43,53 +40,36 @@ std::string default_page_dir() {
   return WHEELTEC_WEB_PAGE_DIR;
 }
 
+// What the server needs before it starts: a token and a TLS context that do not load are
+// configuration errors (exit 2).
+struct Setup {
+  wheeltec::web::WebConfig config;
+  std::optional<std::string> token;
+  std::shared_ptr<boost::asio::ssl::context> tls;
+};
+
+Setup load_setup(const wheeltec::web::Options& options) {
+  using namespace wheeltec::web;
+  Setup setup{load_config(options), std::nullopt, nullptr};
+  if (setup.config.token_file) setup.token = read_token(*setup.config.token_file);
+  if (setup.config.tls.cert && setup.config.tls.key) {
+    setup.tls = load_tls_context({*setup.config.tls.cert, *setup.config.tls.key});
+  }
+  if (setup.config.page_dir.empty()) setup.config.page_dir = default_page_dir();
+  return setup;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace wheeltec::web;
-  std::signal(SIGPIPE, SIG_IGN);
-
-  auto parsed = parse_command_line(argc, argv);
-  if (const int* exit_code = std::get_if<int>(&parsed)) return *exit_code;
-  const Options options = std::get<Options>(std::move(parsed));
-
-  WebConfig config;
-  std::optional<std::string> token;
-  std::shared_ptr<boost::asio::ssl::context> tls;
-  try {
-    config = load_config(options);
-    if (config.token_file) token = read_token(*config.token_file);
-    if (config.tls.cert && config.tls.key) tls = load_tls_context({*config.tls.cert, *config.tls.key});
-  } catch (const wheeltec::ConfigError& error) {
-    std::cerr << "wheeltec-web: " << error.what() << "\n";
-    return 2;
-  }
-  if (config.page_dir.empty()) config.page_dir = default_page_dir();
-
-  wheeltec::service::setup_logging(config.log.level, "wheeltec-web");
-  try {
-    StaticFiles files = StaticFiles::load(config.page_dir, config.javascript_dir);
-    boost::asio::io_context io{1};
-    Server server(io, std::move(config), std::move(token), std::move(files), std::move(tls));
-    boost::asio::signal_set signals(io, SIGTERM, SIGINT, SIGHUP);
-    std::function<void()> wait_for_signal = [&] {
-      signals.async_wait([&](boost::system::error_code ec, int signal) {
-        if (ec) return;
-        if (signal == SIGHUP) {
-          server.reload_tls();
-          return wait_for_signal();
-        }
-        spdlog::info("signal {}: stopping", signal);
-        server.stop();
-        io.stop();
+  return wheeltec::service::run_program(
+      "wheeltec-web", argc, argv, parse_command_line, load_setup, [](const Options& /*options*/, Setup& setup) {
+        wheeltec::service::setup_logging(setup.config.log.level, "wheeltec-web");
+        StaticFiles files = StaticFiles::load(setup.config.page_dir, setup.config.javascript_dir);
+        boost::asio::io_context io{1};
+        Server server(io, std::move(setup.config), std::move(setup.token), std::move(files), std::move(setup.tls));
+        wheeltec::service::serve_until_stopped(io, server, [&] { server.reload_tls(); });
+        return 0;
       });
-    };
-    wait_for_signal();
-    server.start();
-    io.run();
-    return 0;
-  } catch (const std::exception& error) {
-    std::cerr << "wheeltec-web: " << error.what() << "\n";
-    return 1;
-  }
 }

@@ -6,19 +6,16 @@
 
 #include "wheeltec/client/connection.hpp"
 #include "wheeltec/command_line.hpp"
+#include "wheeltec/config_checks.hpp"
 #include "wheeltec/service/config_file.hpp"
+#include "wheeltec/service/layered_config.hpp"
 
 namespace wheeltec::web {
 
 std::variant<Options, int> parse_command_line(int argc, char** argv) {
   Options options;
   CLI::App app{"wheeltec-web: live view of a WHEELTEC robot in a browser and in Foxglove", "wheeltec-web"};
-  command_line::add_version_flag(app);
-  app.add_option("--config", options.config_file,
-                 fmt::format("Config file (JSON); default {} if it exists", kDefaultConfigFile))
-      ->type_name("FILE");
-  app.add_option("--socket", options.socket, "wheeltecd's socket; default $WHEELTEC_SOCKET, else the daemon's")
-      ->type_name("PATH");
+  command_line::add_bridge_flags(app, options, kDefaultConfigFile);
   app.add_option("--listen", options.listen, "Address and port to serve on, default 127.0.0.1:8080")
       ->type_name("ADDR:PORT");
   app.add_option("--token-file", options.token_file,
@@ -34,37 +31,24 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
       ->type_name("FILE");
   app.add_option("--tls-key", options.tls_key, "The certificate's private key (PEM, not readable by others)")
       ->type_name("FILE");
-  command_line::add_log_level_option(app, options.log_level);
-  if (const std::optional<int> exit_code = command_line::parse(app, argc, argv)) return *exit_code;
-  return options;
+  return command_line::parse_bridge_command_line(app, options, argc, argv);
 }
 
 WebConfig load_config(const Options& options) {
-  WebConfig config;
-  config.socket = client::socket_path_from_environment();
-  if (const auto file = service::config_file_to_load(options.config_file, kDefaultConfigFile)) {
-    const std::string text = service::read_config_file(*file);
-    try {
-      apply_web_config(parse_config_document(text), config);
-      validate_web_config(config);
-    } catch (const ConfigError& error) {
-      throw ConfigError(fmt::format("{}: {}", *file, error.what()));
+  WebConfig defaults;
+  defaults.socket = client::socket_path_from_environment();
+  const service::ConfigLayers<WebConfig> layers{kDefaultConfigFile, service::ConfigSecrecy::open, apply_web_config,
+                                                validate_web_config};
+  return service::load_layered_config(std::move(defaults), options, layers, [&](WebConfig& config) {
+    if (options.listen) {
+      config.listen = config_checks::parse_host_port(*options.listen, "--listen", config_checks::PortUse::listen);
     }
-  }
-  try {
-    if (options.socket) config.socket = *options.socket;
-    if (options.listen) config.listen = parse_listen_address(*options.listen, "--listen");
     if (options.token_file) config.token_file = *options.token_file;
     for (const auto& origin : options.allow_origins) config.allow_origins.push_back(origin);
     if (options.page_dir) config.page_dir = *options.page_dir;
     if (options.tls_cert) config.tls.cert = *options.tls_cert;
     if (options.tls_key) config.tls.key = *options.tls_key;
-    if (options.log_level) config.log.level = *options.log_level;
-    validate_web_config(config);
-  } catch (const ConfigError& error) {
-    throw ConfigError(fmt::format("command line: {}", error.what()));
-  }
-  return config;
+  });
 }
 
 std::string read_token(const std::string& path) {

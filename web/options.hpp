@@ -5,6 +5,8 @@
 #include <variant>
 #include <vector>
 
+#include "wheeltec/bridge_flags.hpp"
+
 #include "web_config.hpp"
 
 namespace wheeltec::web {
@@ -12,16 +14,13 @@ namespace wheeltec::web {
 inline constexpr const char* kDefaultConfigFile = "/etc/wheeltec-web/wheeltec-web.json";
 
 // The command line of wheeltec-web (spec section 6). Flags that were not given are empty.
-struct Options {
-  std::optional<std::string> config_file;
-  std::optional<std::string> socket;
+struct Options : command_line::BridgeFlags {
   std::optional<std::string> listen;  // ADDR:PORT
   std::optional<std::string> token_file;
   std::vector<std::string> allow_origins;
   std::optional<std::string> page_dir;
   std::optional<std::string> tls_cert;
   std::optional<std::string> tls_key;
-  std::optional<std::string> log_level;
 };
 
 // On --help or --version the result is exit code 0; on bad usage a one-line error goes to

@@ -23,7 +23,7 @@ namespace {
 std::size_t connection_limit(const WebConfig& config) { return static_cast<std::size_t>(config.max_clients) + 32; }
 
 boost::asio::ip::tcp::endpoint endpoint_of(const ListenAddress& listen) {
-  return {boost::asio::ip::make_address(listen.address), listen.port};
+  return {boost::asio::ip::make_address(listen.host), listen.port};
 }
 
 std::uint64_t now_ns() {
@@ -53,7 +53,7 @@ Server::~Server() = default;
 boost::asio::ip::tcp::endpoint Server::local_endpoint() const { return acceptor_.local_endpoint(); }
 
 void Server::start() {
-  spdlog::info("serving on {}://{}:{}/, wheeltecd at {}, driving {}", tls_ ? "https" : "http", config_.listen.address,
+  spdlog::info("serving on {}://{}:{}/, wheeltecd at {}, driving {}", tls_ ? "https" : "http", config_.listen.host,
                local_endpoint().port(), config_.socket, token_ ? "with the token" : "disabled (no --token-file)");
   accept();
   daemon_.start();

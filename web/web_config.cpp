@@ -1,12 +1,10 @@
 #include "web_config.hpp"
 
-#include <algorithm>
-
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "wheeltec/config_checks.hpp"
 #include "wheeltec/config_fields.hpp"
-#include "wheeltec/types.hpp"
 
 namespace wheeltec::web {
 
@@ -21,7 +19,7 @@ void apply_web_config(const json& document, WebConfig& config) {
   apply_object(document, "", {
     text("socket", config.socket),
     {"listen", [&](const json& value, const std::string& path) {
-       config.listen = parse_listen_address(read_text(value, path), path);
+       config.listen = config_checks::parse_host_port(read_text(value, path), path, config_checks::PortUse::listen);
      }},
     optional_text("token_file", config.token_file),
     text_array("allow_origins", config.allow_origins),
@@ -38,7 +36,7 @@ void apply_web_config(const json& document, WebConfig& config) {
 }
 
 void validate_web_config(const WebConfig& config) {
-  if (config.socket.empty()) fail("socket", "must not be empty");
+  config_checks::check_socket_path(config.socket, "socket");
   if (!(config.stall_timeout_s >= 0.1 && config.stall_timeout_s <= 600)) {
     fail("stall_timeout_s", fmt::format("must be in [0.1, 600], got {}", config.stall_timeout_s));
   }
@@ -47,17 +45,11 @@ void validate_web_config(const WebConfig& config) {
       fail("allow_origins", fmt::format("\"{}\" is not an origin (http://HOST[:PORT] or https://...)", origin));
     }
   }
-  if (std::find(kLogLevels.begin(), kLogLevels.end(), config.log.level) == kLogLevels.end()) {
-    fail("log.level", fmt::format("must be one of trace, debug, info, warn, error, got \"{}\"", config.log.level));
-  }
+  config_checks::check_log_level(config.log.level);
   if (config.max_clients < 1) fail("max_clients", "must be at least 1");
-  if (config.tls.cert.has_value() != config.tls.key.has_value()) {
-    fail(config.tls.cert ? "tls.key" : "tls.cert",
-         "tls.cert (--tls-cert) and tls.key (--tls-key) go together: give both or neither");
-  }
-  if ((config.tls.cert && config.tls.cert->empty()) || (config.tls.key && config.tls.key->empty())) {
-    fail(config.tls.cert->empty() ? "tls.cert" : "tls.key", "must not be empty");
-  }
+  config_checks::check_certificate_pair(config.tls.cert, "tls.cert", config.tls.key, "tls.key");
+  config_checks::check_optional_file(config.tls.cert, "tls.cert");
+  config_checks::check_optional_file(config.tls.key, "tls.key");
 }
 
 }  // namespace wheeltec::web

@@ -3,7 +3,6 @@
 // wheeltec-web's configuration (docs/web.md lists every key): defaults, the JSON config
 // file over them, then the command line. Pure: no I/O; options.cpp reads the files.
 
-#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,10 +10,13 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "wheeltec/config.hpp"  // ConfigError
+#include "wheeltec/config_checks.hpp"
 
 #include "access.hpp"
 
 namespace wheeltec::web {
+
+using ListenAddress = config_checks::HostPort;
 
 struct WebConfig {
   std::string socket = "/run/wheeltecd/wheeltecd.sock";

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "wheeltec/config_checks.hpp"
 #include "wheeltec/config_fields.hpp"
 #include "wheeltec/json_text.hpp"
 
@@ -20,7 +21,6 @@ using json = nlohmann::json;
 using namespace config_fields;
 
 constexpr std::size_t kIfNameSize = 16;   // IFNAMSIZ, including the terminating NUL
-constexpr std::size_t kSunPathSize = 108; // sizeof(sockaddr_un::sun_path), including the NUL
 constexpr std::uint32_t kMaxMode = 0777;
 constexpr int kMinClients = 1;
 constexpr int kMaxClients = 1024;
@@ -198,12 +198,8 @@ void validate_config(const GatewayConfig& c) {
   check_half_open(c.telemetry.timeout_s, 0, 60, "telemetry.timeout_s");
   check_closed(c.telemetry.low_battery_v, 0, 100, "telemetry.low_battery_v");
 
-  if (c.api.socket.empty()) fail("api.socket", "must not be empty");
+  config_checks::check_socket_path(c.api.socket, "api.socket");
   if (c.api.socket.front() != '/') fail("api.socket", fmt::format("must be an absolute path, got \"{}\"", c.api.socket));
-  if (c.api.socket.size() >= kSunPathSize) {
-    fail("api.socket", fmt::format("must be shorter than {} bytes (sun_path), got {} bytes", kSunPathSize,
-                                   c.api.socket.size()));
-  }
   if (c.api.mode > kMaxMode) fail("api.mode", fmt::format("must be at most 0777, got {:04o}", c.api.mode));
   if (c.api.group && c.api.group->empty()) fail("api.group", "must not be empty (use null for none)");
   if (c.api.max_clients < kMinClients || c.api.max_clients > kMaxClients) {
@@ -216,11 +212,7 @@ void validate_config(const GatewayConfig& c) {
     if (c.api.control_groups[i].empty()) fail(fmt::format("api.control_groups[{}]", i), "must not be empty");
   }
 
-  bool known_level = false;
-  for (std::string_view level : kLogLevels) known_level = known_level || level == c.log.level;
-  if (!known_level) {
-    fail("log.level", fmt::format("must be one of {}, got \"{}\"", fmt::join(kLogLevels, ", "), c.log.level));
-  }
+  config_checks::check_log_level(c.log.level);
 }
 
 json config_to_json(const GatewayConfig& c) {

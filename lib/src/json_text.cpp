@@ -88,6 +88,25 @@ json parse(std::string_view text, Findings& findings, int max_depth) {
   });
 }
 
+StrictRead read_strict(std::string_view text, int max_depth) {
+  StrictRead read;
+  try {
+    read.document = parse(text, read.findings, max_depth);
+  } catch (const json::exception& error) {
+    read.document = nullptr;
+    read.syntax_error = message(error);
+  }
+  if (read.findings.too_deep) {
+    read.refusal = Refusal{Refusal::Reason::too_deep, fmt::format("nested deeper than {} levels", max_depth)};
+  } else if (read.syntax_error) {
+    read.refusal = Refusal{Refusal::Reason::not_json, *read.syntax_error};
+  } else if (read.findings.duplicate_key) {
+    read.refusal = Refusal{Refusal::Reason::duplicate_key,
+                           fmt::format("duplicate key \"{}\"", printable(*read.findings.duplicate_key))};
+  }
+  return read;
+}
+
 std::string message(const json::exception& error) {
   std::string_view what = error.what();
   const auto bracket = what.find("] ");

@@ -36,10 +36,10 @@ Error invalid_params(const Request& request, std::string message) {
   return Error{kInvalidParams, std::move(message), request.id};
 }
 
-std::variant<Request, Error> parse_object(json& document, const json_text::Findings& findings) {
+std::variant<Request, Error> parse_object(json& document, const json_text::StrictRead& read) {
   Request request;
   // With "id" given twice, which one the client meant is unknown: answer with a null id.
-  const bool id_ambiguous = findings.duplicate_depth == 1 && findings.duplicate_key == "id";
+  const bool id_ambiguous = read.findings.duplicate_depth == 1 && read.findings.duplicate_key == "id";
   if (auto id = document.find("id"); id != document.end() && !id_ambiguous) {
     const bool finite_number = id->is_number() && std::isfinite(id->get<double>());
     if (!id->is_string() && !finite_number && !id->is_null()) {
@@ -51,9 +51,10 @@ std::variant<Request, Error> parse_object(json& document, const json_text::Findi
   }
   auto fail = [&](std::string message) { return Error{kInvalidRequest, std::move(message), request.id}; };
 
-  if (findings.too_deep) return fail(fmt::format("request nested deeper than {} levels", kMaxDepth));
-  // nlohmann keeps the last of duplicate keys silently; a request that says two things is refused.
-  if (findings.duplicate_key) return fail(fmt::format("duplicate key \"{}\"", printable(*findings.duplicate_key)));
+  if (read.refusal) {
+    const bool too_deep = read.refusal->reason == json_text::Refusal::Reason::too_deep;
+    return fail(too_deep ? "request " + read.refusal->message : read.refusal->message);
+  }
 
   const auto jsonrpc = document.find("jsonrpc");
   if (jsonrpc == document.end()) return fail("missing \"jsonrpc\"");
@@ -161,27 +162,23 @@ void restore_non_finite(json& value) {
 }
 
 std::variant<Request, Error> parse_line(std::string_view line) {
-  json_text::Findings findings;
-  json document;
-  try {
-    document = json_text::parse(line, findings, kMaxDepth);
-  } catch (const json::exception& error) {
-    const Error parse_error{kParseError, json_text::message(error), nullptr};
+  // An unparsable line is -32700 (spec section 2), however deep it was.
+  json_text::StrictRead read = json_text::read_strict(line, kMaxDepth);
+  if (read.syntax_error) {
+    const Error parse_error{kParseError, *read.syntax_error, nullptr};
     const auto marked = mark_non_finite(line);
     if (!marked) return parse_error;
-    try {
-      document = json_text::parse(*marked, findings, kMaxDepth);
-    } catch (const json::exception&) {
-      return parse_error;
-    }
-    restore_non_finite(document);
+    read = json_text::read_strict(*marked, kMaxDepth);
+    if (read.syntax_error) return parse_error;
+    restore_non_finite(read.document);
   }
+  json& document = read.document;
 
   if (document.is_array()) return Error{kInvalidRequest, "batch requests are not supported", nullptr};
   if (!document.is_object()) {
     return Error{kInvalidRequest, fmt::format("request must be a JSON object, got {}", document.type_name()), nullptr};
   }
-  return parse_object(document, findings);
+  return parse_object(document, read);
 }
 
 }  // namespace

@@ -61,6 +61,34 @@ TEST_F(SerialCommands, ElevenByteFramesZeroFirstThenOneEvery50ms) {
   EXPECT_LT(mean, 60.0);
 }
 
+// "Zero first whenever the port is (re)opened": one zero frame, not one from the link and
+// more from the control loop. At 1 Hz the period's frames are far from the open's.
+TEST_F(SerialCommands, OneZeroFrameAtEachOpen) {
+  fake_->start_telemetry();
+  DaemonOptions options;
+  options.config_patch = {{"control", {{"rate_hz", 1}}}};
+  start_daemon(options);
+  const auto expect_one_zero_at_open = [&](int plug) {
+    ASSERT_TRUE(fake_->wait_command([plug](const CommandSeen& f) { return f.plug == plug; }, 3s)) << logs();
+    std::this_thread::sleep_for(100ms);
+    std::vector<CommandSeen> frames;
+    for (const auto& f : fake_->commands()) {
+      if (f.plug == plug) frames.push_back(f);
+    }
+    EXPECT_TRUE(frames.front().zero()) << frames.front().text();
+    const auto at_open = std::count_if(frames.begin(), frames.end(), [&](const CommandSeen& f) {
+      return seconds_between(frames.front().time, f.time) < 0.010;
+    });
+    EXPECT_EQ(at_open, 1) << "frames within 10 ms of the open on plug " << plug;
+  };
+  expect_one_zero_at_open(1);
+  fake_->unplug();
+  std::this_thread::sleep_for(200ms);
+  fake_->replug();
+  expect_one_zero_at_open(2);
+  expect_only_command_frames(*fake_);
+}
+
 TEST_F(SerialCommands, RateFollowsTheConfiguration) {
   fake_->start_telemetry();
   DaemonOptions options;

@@ -47,6 +47,8 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard 
  public:
   explicit Simulation(Dialect dialect) : dialect_(dialect) {}
 
+  bool zeroes_when_up_ = false;  // as the serial link does at each open of its port (no enable frame)
+
   class Timer : public OneShotTimer, public SimulatedEvent {
    public:
     explicit Timer(Simulation& sim) : sim_(sim) {}
@@ -92,9 +94,10 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard 
     return true;
   }
   void send_enable(bool enable) override {
-    if (dialect_ == Dialect::manual) bus_.push_back({now_, enable, std::nullopt});
+    if (refreshes_enable()) bus_.push_back({now_, enable, std::nullopt});
   }
-  bool refreshes_enable() const override { return dialect_ == Dialect::manual; }
+  bool refreshes_enable() const override { return dialect_ == Dialect::manual && !zeroes_when_up_; }
+  bool zeroes_when_up() const override { return zeroes_when_up_; }
   void start() override { guard_started_ = true; }
   void beat() override {
     ++beats_;
@@ -256,7 +259,6 @@ TEST_F(ControlLoopTest, TheSameTargetAgainAddsNoFrameBetweenPeriods) {
   loop_.drive(kAlice, kForward);
   loop_.drive(kAlice, kForward);
   EXPECT_TRUE(sim_.take_frames().empty()) << "only a changed target goes out between periods";
-  EXPECT_EQ(changes_, 1);
   loop_.drive(kAlice, {0.1, 0.0, 0.0});
   EXPECT_EQ(velocities(sim_.take_frames()), (std::vector<Velocity>{{0.1, 0.0, 0.0}}));
 }
@@ -357,13 +359,14 @@ TEST_F(ControlLoopTest, StopSendsZeroAtOnceEvenWhenAlreadyZero) {
   start();
   loop_.stop();
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
-  EXPECT_EQ(changes_, 0) << "nothing changed";
+  // Whether the status changed is the gateway's comparison; the loop only says when it may have.
+  EXPECT_EQ(changes_, 1);
   loop_.drive(kAlice, kForward);
   sim_.take_frames();
   loop_.stop();
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
   EXPECT_EQ(supervisor_.owner(), std::nullopt);
-  EXPECT_EQ(changes_, 2);
+  EXPECT_EQ(changes_, 3);
 }
 
 TEST_F(ControlLoopTest, DisableSendsZeroThenDisableAndStopsTheFrames) {
@@ -443,6 +446,43 @@ TEST_F(ControlLoop0x181Test, NoEnableFramesAndTheDeadmanStillLapses) {
   EXPECT_EQ(enable_frames(frames, true) + enable_frames(frames, false), 0);
   EXPECT_EQ(velocities(frames).back(), kZero);
   EXPECT_TRUE(sim_.guard_armed_);
+}
+
+// The serial line: the link writes the zero command itself at each open of its port, and
+// that one frame is the zero the contract wants first; there is no enable handshake.
+class ControlLoopSerialTest : public ControlLoopTest {
+ protected:
+  ControlLoopSerialTest() { sim_.zeroes_when_up_ = true; }
+};
+
+TEST_F(ControlLoopSerialTest, TheLinksZeroAtOpenIsTheOnlyZeroAtStart) {
+  loop_.start();
+  EXPECT_TRUE(sim_.take_frames().empty()) << "the link sent the zero when its port opened";
+  EXPECT_TRUE(supervisor_.enabled());
+  sim_.advance(kPeriod);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
+}
+
+TEST_F(ControlLoopSerialTest, AReopenedPortGetsNoSecondZeroButTheCurrentCommand) {
+  start();
+  loop_.link_changed(LinkState::down);
+  loop_.link_changed(LinkState::up);
+  EXPECT_TRUE(sim_.take_frames().empty()) << "nobody drives: the link's own zero is the only frame";
+
+  loop_.drive(kAlice, kForward);
+  sim_.take_frames();
+  loop_.link_changed(LinkState::down);
+  loop_.link_changed(LinkState::up);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kForward}) << "after the link's zero";
+}
+
+TEST_F(ControlLoopSerialTest, APortOpenedAfterStartGetsOneZero) {
+  loop_.link_changed(LinkState::down);
+  loop_.start();
+  EXPECT_TRUE(sim_.take_frames().empty());
+  loop_.link_changed(LinkState::up);
+  EXPECT_TRUE(sim_.take_frames().empty()) << "the link sent the zero when its port opened";
+  EXPECT_EQ(supervisor_.mode(), ControlMode::enabled);
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/config.hpp"
 
 namespace wheeltec::web {
 namespace {
@@ -66,18 +65,6 @@ TEST(Access, Subprotocol) {
   EXPECT_TRUE(offers_subprotocol("x, foxglove.websocket.v1", "foxglove.websocket.v1"));
   EXPECT_FALSE(offers_subprotocol("foxglove.websocket.v2", "foxglove.websocket.v1"));
   EXPECT_FALSE(offers_subprotocol("", "foxglove.websocket.v1"));
-}
-
-TEST(Access, ListenAddress) {
-  const ListenAddress a = parse_listen_address("127.0.0.1:8080", "--listen");
-  EXPECT_EQ(a.address, "127.0.0.1");
-  EXPECT_EQ(a.port, 8080);
-  const ListenAddress b = parse_listen_address("[::1]:0", "--listen");
-  EXPECT_EQ(b.address, "::1");
-  EXPECT_EQ(b.port, 0);
-  for (const char* bad : {"8080", ":8080", "host:", "host:65536", "host:80x", "[::1:80"}) {
-    EXPECT_THROW(parse_listen_address(bad, "--listen"), ConfigError) << bad;
-  }
 }
 
 }  // namespace

@@ -9,7 +9,7 @@ namespace {
 TEST(WebConfig, DefaultsAreValid) {
   WebConfig config;
   EXPECT_NO_THROW(validate_web_config(config));
-  EXPECT_EQ(config.listen.address, "127.0.0.1");
+  EXPECT_EQ(config.listen.host, "127.0.0.1");
   EXPECT_EQ(config.listen.port, 8080);
   EXPECT_FALSE(config.token_file);
   EXPECT_FALSE(config.trust_localhost);  // an explicit opt-in

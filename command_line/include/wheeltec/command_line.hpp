@@ -9,10 +9,13 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "wheeltec/bridge_flags.hpp"
 #include "wheeltec/types.hpp"
 #include "wheeltec/version.hpp"
 
@@ -49,6 +52,25 @@ CLI::Option* add_log_level_option(CLI::App& app, Level& level,
   return app.add_option("--log-level", level, description)
       ->type_name(names)
       ->check(CLI::IsMember(levels).description(""));
+}
+
+// --version, --config and --socket, first in --help (parse_bridge_command_line adds --log-level last).
+inline void add_bridge_flags(CLI::App& app, BridgeFlags& flags, const std::string& default_config_file) {
+  add_version_flag(app);
+  app.add_option("--config", flags.config_file, "Config file (JSON); default " + default_config_file + " if it exists")
+      ->type_name("FILE");
+  app.add_option("--socket", flags.socket, "wheeltecd's socket, overrides socket; default $WHEELTEC_SOCKET, else the "
+                                           "daemon's")
+      ->type_name("PATH");
+}
+
+// A bridge's command line after its own options: --log-level last, then the parse. The
+// options, or the exit code as parse() gives it.
+template <typename Options>
+std::variant<Options, int> parse_bridge_command_line(CLI::App& app, Options& options, int argc, char** argv) {
+  add_log_level_option(app, options.log_level);
+  if (const std::optional<int> exit_code = parse(app, argc, argv)) return *exit_code;
+  return std::move(options);
 }
 
 enum class LowBound { inclusive, exclusive };
