@@ -29,19 +29,12 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
-#include <cmath>
-#include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <future>
 #include <iostream>
-#include <memory>
 #include <numeric>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -57,24 +50,23 @@
 #include "wheeltec/asio_can/frame_io.hpp"
 #include "wheeltec/asio_can/frame_reader.hpp"
 #include "wheeltec/asio_can/raw_protocol.hpp"
-#include "wheeltec/telemetry_group.hpp"
-#include "wheeltec/telemetry_json.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/telemetry_decoder.hpp"
+#include "wheeltec/telemetry_reassembler.hpp"
 
 #include "api_counters.hpp"
 #include "api_server.hpp"
-#include "can_link.hpp"
 #include "can_chassis_link.hpp"
-#include "wheeltec/telemetry_decoder.hpp"
-#include "wheeltec/telemetry_reassembler.hpp"
 #include "control_io.hpp"
 #include "control_loop.hpp"
 #include "control_policy.hpp"
 #include "rpc_handler.hpp"
 
 #include "bench_clock.hpp"
+#include "bench_command_line.hpp"
 #include "child_program.hpp"
+#include "gateway_latency.hpp"
 #include "subscriber_set.hpp"
+#include "work_dir.hpp"
 
 namespace {
 
@@ -92,24 +84,15 @@ struct Settings {
   std::string json_path;
 };
 
-Settings parse_arguments(int argc, char** argv) {
+constexpr const char* kUsage = "usage: wheeltec-bench-fanout [--step-s S] [--max-rate HZ] [--floor PATH] [--json FILE]\n";
+
+Settings parse_arguments(bench::BenchCommandLine& command_line, int argc, char** argv) {
   Settings s;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (i + 1 >= argc) {
-      std::cerr << "usage: wheeltec-bench-fanout [--step-s S] [--max-rate HZ] [--floor PATH] [--json FILE]\n";
-      std::exit(2);
-    }
-    const std::string value = argv[++i];
-    if (key == "--step-s") s.step_s = std::stod(value);
-    else if (key == "--max-rate") s.max_rate_hz = std::stod(value);
-    else if (key == "--floor") s.floor = value;
-    else if (key == "--json") s.json_path = value;
-    else {
-      std::cerr << "wheeltec-bench-fanout: unknown option " << key << "\n";
-      std::exit(2);
-    }
-  }
+  command_line.value("--step-s", s.step_s);
+  command_line.value("--max-rate", s.max_rate_hz);
+  command_line.value("--floor", s.floor);
+  command_line.value("--json", s.json_path);
+  command_line.parse(argc, argv);
   return s;
 }
 
@@ -244,11 +227,7 @@ class RelayFloor final : public GatewayUnderTest {
 };
 
 std::array<can_frame, 3> frames_of_record(int n) {
-  RawTelemetry raw;
-  raw.vx = static_cast<std::int16_t>(n % 500);
-  raw.accel_z = 16400;
-  raw.battery_mv = 22500;
-  const TelemetryGroup group = make_telemetry_group(encode_record(raw));
+  const TelemetryGroup group = bench::bench_group(n);
   std::array<can_frame, 3> out{};
   for (std::size_t i = 0; i < 3; ++i) out[i] = asio_can::to_socketcan(group.frames[i]);
   return out;
@@ -371,13 +350,10 @@ std::array<int, 2> frame_socket_pair() {
   return {pair[0], pair[1]};
 }
 
-}  // namespace
-
-int main(int argc, char** argv) try {
-  const Settings s = parse_arguments(argc, argv);
+int measure(const Settings& s) {
   spdlog::set_level(spdlog::level::warn);
-  const fs::path dir = fs::temp_directory_path() / fmt::format("wheeltec-fanout-{}", ::getpid());
-  fs::create_directories(dir);
+  const bench::WorkDir work("wheeltec-fanout");
+  const fs::path& dir = work.path();
 
   json out = {{"subscribers", kSubscribers}};
   {
@@ -403,7 +379,6 @@ int main(int argc, char** argv) try {
     out["floor"]["steps"] = steps;
     ::close(sender_end);
   }
-  fs::remove_all(dir);
   std::cout << fmt::format("highest rate to {} subscribers with no loss (of the steps tried): wheeltecd {:.0f} records/s",
                            kSubscribers, out["wheeltecd"]["max_no_loss_rate_hz"].get<double>());
   if (out.contains("floor")) {
@@ -412,7 +387,11 @@ int main(int argc, char** argv) try {
   std::cout << "\n";
   if (!s.json_path.empty()) std::ofstream(s.json_path) << out.dump(2) << "\n";
   return 0;
-} catch (const std::exception& e) {
-  std::cerr << "wheeltec-bench-fanout: " << e.what() << "\n";
-  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bench::BenchCommandLine command_line("wheeltec-bench-fanout", kUsage);
+  return bench::run_main(command_line, [&] { return measure(parse_arguments(command_line, argc, argv)); });
 }

@@ -20,43 +20,29 @@
 // 20 Hz) in place of the emulator, and times the command frames when it reads them. The drives
 // (1, with the paho bridge and the broker's hop) and the broker loss run; 2-4 need the bus.
 
-#include <poll.h>
-#include <stdlib.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
-#include <unordered_map>
 #include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/asio_can/frame_io.hpp"
-
 #include "bench_clock.hpp"
 #include "bench_figures.hpp"
+#include "bridge_bench.hpp"
 #include "broker_loss.hpp"
 #include "bus_observer.hpp"
-#include "command_frames.hpp"
-#include "fleet_processes.hpp"
 #include "latency_stats.hpp"
 #include "mqtt_endpoints.hpp"
 #include "process_profile.hpp"
-#include "pty_endpoint.hpp"
 #include "serial_chassis.hpp"
-#include "subscriber_set.hpp"
+#include "work_dir.hpp"
 
 namespace {
 
@@ -68,22 +54,13 @@ using std::chrono::milliseconds;
 constexpr double kTelemetryHz = 20.0;  // the emulator's (and the stock firmware's) record rate
 constexpr const char* kPrefix = "wheeltec";
 
-struct Settings {
-  FleetPrograms programs;
-  std::string json_path;
-  std::string work_dir;  // default: a new directory in /tmp, removed at the end
-  double telemetry_s = 20.0;
-  int drives = 300;  // over the broker, and as many on the daemon's socket
-  int drive_block = 50;
-  double drive_interval_ms = 100.0;  // an operator's tool repeating its drive at 10 Hz
+struct Settings : BridgeSettings {
   std::vector<int> robots{1, 2, 4, 8, 16};
   double step_s = 10.0;
   bool keep_going = false;  // scaling: go on after a step that lost records
   int run_all_up_to = 8;    // scaling: steps of up to this many robots run even after a lossy one
-  bool quick = false;
   bool operator_nodelay = false;            // the benchmark's publisher sets TCP_NODELAY
   std::vector<std::string> broker_config;  // more lines of mosquitto.conf
-  std::string strace;                      // given: system calls per record counted (bridge, broker)
   int loss_rounds = 5;                     // broker kills per bridge
   bool serial = false;                     // r1's chassis on a pty played by the benchmark; no emulator
 };
@@ -91,83 +68,45 @@ struct Settings {
 constexpr const char* kPahoRobot = "py1";  // the paho bridge's topics: same daemon as r1, topics of its own
 constexpr const char* kHopTopic = "wheeltec-bench/hop";  // the broker's hop alone: no bridge subscribes to it
 
-void usage() {
-  std::cout << "usage: wheeltec-bench-mqtt --wheeltecd PATH --emulator PATH --bridge PATH [--mosquitto PATH]\n"
-               "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
-               "       [--drive-interval-ms MS] [--robots 1,2,4,8,16] [--step-seconds S] [--keep-going]\n"
-               "       [--operator-nodelay] [--broker-config 'MOSQUITTO.CONF LINE']... [--strace PATH]\n"
-               "       --paho-bridge bench/mqtt/paho_bridge.py [--python /usr/bin/python3] [--loss-rounds N] [--serial]\n"
-               "The paho bridge (Python, paho-mqtt) drives r1's daemon as robot py1: the reference in the same run.\n"
-               "Scaling: the steps of up to 8 robots (--quick: 2) always run; after them, a step that lost records or\n"
-               "found the machine 95 % busy is the last (--keep-going: every step).\n"
-               "Runs where vcan0..vcanN-1 exist (scripts/vcan-run with VCAN_INTERFACES); see scripts/bench-mqtt.sh.\n"
-               "--serial: natively, one robot whose chassis is a pseudo-terminal played by the benchmark (no --emulator,\n"
-               "no vcan): the drives and the broker loss only.\n";
-}
+constexpr const char* kUsage =
+    "usage: wheeltec-bench-mqtt --wheeltecd PATH --emulator PATH --bridge PATH [--mosquitto PATH]\n"
+    "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
+    "       [--drive-interval-ms MS] [--robots 1,2,4,8,16] [--step-seconds S] [--keep-going]\n"
+    "       [--operator-nodelay] [--broker-config 'MOSQUITTO.CONF LINE']... [--strace PATH]\n"
+    "       --paho-bridge bench/mqtt/paho_bridge.py [--python /usr/bin/python3] [--loss-rounds N] [--serial]\n"
+    "The paho bridge (Python, paho-mqtt) drives r1's daemon as robot py1: the reference in the same run.\n"
+    "Scaling: the steps of up to 8 robots (--quick: 2) always run; after them, a step that lost records or\n"
+    "found the machine 95 % busy is the last (--keep-going: every step).\n"
+    "Runs where vcan0..vcanN-1 exist (scripts/vcan-run with VCAN_INTERFACES); see scripts/bench-mqtt.sh.\n"
+    "--serial: natively, one robot whose chassis is a pseudo-terminal played by the benchmark (no --emulator,\n"
+    "no vcan): the drives and the broker loss only.\n";
 
-std::vector<int> parse_list(const std::string& text) {
-  std::vector<int> values;
-  std::istringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    const int value = std::stoi(item);
-    if (value < 1) throw std::invalid_argument("--robots: counts must be at least 1");
-    values.push_back(value);
-  }
-  if (values.empty()) throw std::invalid_argument("--robots: empty");
-  return values;
-}
-
-Settings parse_arguments(int argc, char** argv) {
+Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) {
   Settings s;
-  bool robots_given = false, step_given = false, telemetry_given = false, drives_given = false, loss_given = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (key == "--help" || key == "-h") {
-      usage();
-      std::exit(0);
-    }
-    if (key == "--quick") {
-      s.quick = true;
-      continue;
-    }
-    if (key == "--keep-going" || key == "--operator-nodelay" || key == "--serial") {
-      (key == "--keep-going" ? s.keep_going : key == "--serial" ? s.serial : s.operator_nodelay) = true;
-      continue;
-    }
-    if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
-    const std::string value = argv[++i];
-    if (key == "--wheeltecd") s.programs.wheeltecd = value;
-    else if (key == "--emulator") s.programs.emulator = value;
-    else if (key == "--bridge") s.programs.bridge = value;
-    else if (key == "--mosquitto") s.programs.mosquitto = value;
-    else if (key == "--json") s.json_path = value;
-    else if (key == "--work-dir") s.work_dir = value;
-    else if (key == "--telemetry-seconds") s.telemetry_s = std::stod(value), telemetry_given = true;
-    else if (key == "--drives") s.drives = std::stoi(value), drives_given = true;
-    else if (key == "--drive-interval-ms") s.drive_interval_ms = std::stod(value);
-    else if (key == "--robots") s.robots = parse_list(value), robots_given = true;
-    else if (key == "--step-seconds") s.step_s = std::stod(value), step_given = true;
-    else if (key == "--broker-config") s.broker_config.push_back(value);
-    else if (key == "--strace") s.strace = value;
-    else if (key == "--paho-bridge") s.programs.paho_bridge = value;
-    else if (key == "--python") s.programs.python = value;
-    else if (key == "--loss-rounds") s.loss_rounds = std::stoi(value), loss_given = true;
-    else throw std::invalid_argument("unknown option " + key);
-  }
+  add_bridge_options(command_line, s);
+  command_line.value("--mosquitto", s.programs.mosquitto);
+  command_line.value("--paho-bridge", s.programs.paho_bridge);
+  command_line.value("--python", s.programs.python);
+  command_line.value("--robots", s.robots)->delimiter(',')->check(CLI::PositiveNumber);
+  command_line.value("--step-seconds", s.step_s);
+  command_line.value("--broker-config", s.broker_config)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  command_line.value("--loss-rounds", s.loss_rounds);
+  command_line.flag("--keep-going", s.keep_going);
+  command_line.flag("--operator-nodelay", s.operator_nodelay);
+  command_line.flag("--serial", s.serial);
+  command_line.parse(argc, argv);
+  finish_bridge_options(command_line, s, {.telemetry_s = 3.0, .drives = 40, .drive_block = 20});
   if (s.quick) {
-    if (!telemetry_given) s.telemetry_s = 3.0;
-    if (!drives_given) s.drives = 40;
-    if (!robots_given) s.robots = {1, 2};
-    if (!step_given) s.step_s = 3.0;
-    s.drive_block = 20;
+    if (!command_line.given("--robots")) s.robots = {1, 2};
+    if (!command_line.given("--step-seconds")) s.step_s = 3.0;
     s.run_all_up_to = 2;
-    if (!loss_given) s.loss_rounds = 2;
+    if (!command_line.given("--loss-rounds")) s.loss_rounds = 2;
   }
   if (s.programs.wheeltecd.empty() || (s.programs.emulator.empty() && !s.serial) || s.programs.bridge.empty() ||
       s.programs.paho_bridge.empty()) {
     throw std::invalid_argument("--wheeltecd, --emulator (except with --serial), --bridge and --paho-bridge are required");
   }
-  if (s.drives < 2 || s.telemetry_s <= 0 || s.step_s <= 0) throw std::invalid_argument("nothing to measure");
+  if (s.robots.empty() || s.step_s <= 0) throw std::invalid_argument("nothing to measure");
   return s;
 }
 
@@ -175,8 +114,6 @@ std::string robot_name(std::size_t index) { return "r" + std::to_string(index + 
 std::string interface_name(std::size_t index) { return "vcan" + std::to_string(index); }
 // Where the benchmark publishes the pty whose controller it plays (--serial).
 fs::path serial_device(const fs::path& work) { return work / "wheeltec_controller"; }
-
-void sleep_ms(double ms) { std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(ms * 1000))); }
 
 // ---- what the subscriber received, by robot ----
 
@@ -296,21 +233,7 @@ std::vector<std::pair<std::int64_t, std::int64_t>> pairs_of(const std::vector<Te
   return pairs;
 }
 
-// ---- CPU from /proc ----
-
 // ---- drives ----
-
-struct DriveSeries {
-  std::vector<double> latency_us;
-  int missed = 0;  // no frame with the velocity within 1 s
-  json to_json() const {
-    json j = summarize(latency_us).to_json();
-    j["missed"] = missed;
-    j["samples_us"] = samples_json(latency_us);
-    return j;
-  }
-};
-
 
 struct DriveResults {
   DriveSeries mqtt, direct, paho;
@@ -335,120 +258,63 @@ void wait_for_stop_reply(Receipts& receipts, const std::string& id) {
 DriveResults measure_drives(const Settings& settings, Robot& robot, CommandFrames& frames, int broker_port,
                             Receipts& receipts) {
   MqttPublisher publisher("127.0.0.1", broker_port, "wheeltec-bench-operator", settings.operator_nodelay);
-  const std::string drive_topic = fmt::format("{}/{}/cmd/drive", kPrefix, robot.name());
-  const std::string stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, robot.name());
   DriveResults results;
   int id = 0;
-  int mm_direct = 100, mm_mqtt = 300, mm_paho = 200;  // each drive a new target: the daemon sends its frame at once
-  const std::string paho_drive_topic = fmt::format("{}/{}/cmd/drive", kPrefix, kPahoRobot);
-  const std::string paho_stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, kPahoRobot);
-  auto next_mm = [](int& mm, int base) { return mm = base + (mm - base + 1) % 100; };
+  int mm_mqtt = 300, mm_paho = 200;
 
   // A drive published on a bridge's topic, timed to its command frame.
-  auto drive_through = [&](const std::string& topic, int& mm, int base, DriveSeries& series, bool counted) {
-    next_mm(mm, base);
-    frames.drain();
-    const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", mm / 1000.0, ++id);
-    const std::int64_t sent = publisher.publish(topic, payload);
-    const auto frame = frames.first_with(mm);
-    if (counted) {
-      if (frame) series.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
-      else ++series.missed;
-    }
-    publisher.service();
+  auto drive_through = [&](const std::string& robot_name, int& mm, int base, DriveSeries& series) {
+    return [&, topic = fmt::format("{}/{}/cmd/drive", kPrefix, robot_name), base](bool counted) {
+      const int target = next_target(mm, base);
+      frames.drain();
+      const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", target / 1000.0, ++id);
+      const std::int64_t sent = publisher.publish(topic, payload);
+      const auto frame = frames.first_with(target);
+      if (counted) series.add(target, sent, frame);
+      publisher.service();
+    };
   };
-  auto mqtt_drive = [&](bool counted) { drive_through(drive_topic, mm_mqtt, 300, results.mqtt, counted); };
+  DrivePath mqtt{drive_through(robot.name(), mm_mqtt, 300, results.mqtt), [&] {
+                   const std::string stop_id = "stop-" + std::to_string(++id);
+                   publisher.publish(fmt::format("{}/{}/cmd/stop", kPrefix, robot.name()), fmt::format(R"({{"id":"{}"}})", stop_id));
+                   wait_for_stop_reply(receipts, stop_id);
+                   publisher.service();
+                 }};
+  mqtt.cpu_of = robot.bridge().pid();
+  // The paho bridge has no replies on MQTT: its stop is seen on the bus.
+  DrivePath paho{drive_through(kPahoRobot, mm_paho, 200, results.paho), [&] {
+                   frames.drain();
+                   publisher.publish(fmt::format("{}/{}/cmd/stop", kPrefix, kPahoRobot), "{}");
+                   frames.first_with(0);
+                   publisher.service();
+                 }};
+  paho.cpu_of = robot.paho_bridge().pid();
   // The broker's part of both bridges' paths: the same publish to a subscriber that does
   // nothing (libmosquitto's thread, woken as a bridge is), timed to its message callback.
   MqttSubscriber hop_subscriber("127.0.0.1", broker_port, "wheeltec-bench-hop", {std::string(kHopTopic)});
-  auto broker_hop = [&](bool counted) {
-    hop_subscriber.take();
-    const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", 0.5, ++id);
-    const std::int64_t sent = publisher.publish(kHopTopic, payload);
-    std::optional<std::int64_t> received;
-    // Looked at every 20 ms (the callback took the time): a polling thread would take the
-    // one vCPU of User-Mode Linux from the thread being timed.
-    for (int waited = 0; !received && waited < 1000; waited += 20) {
-      sleep_ms(20);
-      for (const auto& message : hop_subscriber.take()) {
-        if (message.payload == payload) received = message.received_ns;
-      }
-    }
-    if (counted) {
-      if (received) results.broker_hop.latency_us.push_back(static_cast<double>(*received - sent) / 1e3);
-      else ++results.broker_hop.missed;
-    }
-    publisher.service();
-  };
-  auto paho_drive = [&](bool counted) { drive_through(paho_drive_topic, mm_paho, 200, results.paho, counted); };
-  // The paho bridge has no replies on MQTT: its stop is seen on the bus.
-  auto paho_stop = [&] {
-    frames.drain();
-    publisher.publish(paho_stop_topic, "{}");
-    frames.first_with(0);
-    publisher.service();
-  };
-  auto direct_drive = [&](LineClient& client, bool counted) {
-    const int mm = next_mm(mm_direct, 100);
-    frames.drain();
-    const std::string line = fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{:.3f}}}}})",
-                                         ++id, mm / 1000.0);
-    const std::int64_t sent = realtime_ns();
-    client.send_line(line);
-    const auto frame = frames.first_with(mm);
-    const std::string reply = client.read_line(2000);
-    if (reply.find("\"result\"") == std::string::npos && results.first_errors.size() < 5) {
-      results.first_errors.push_back("direct drive: " + reply);
-    }
-    if (counted) {
-      if (frame) results.direct.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
-      else ++results.direct.missed;
-    }
-  };
-  auto paced = [&](int count, auto&& one) {
-    const auto start = std::chrono::steady_clock::now();
-    for (int i = 0; i < count; ++i) {
-      std::this_thread::sleep_until(start + std::chrono::microseconds(static_cast<long long>(i * settings.drive_interval_ms * 1000)));
-      one();
-    }
-  };
-  auto mqtt_stop = [&] {
-    const std::string stop_id = "stop-" + std::to_string(++id);
-    publisher.publish(stop_topic, fmt::format(R"({{"id":"{}"}})", stop_id));
-    wait_for_stop_reply(receipts, stop_id);
-    publisher.service();
-  };
-
-  // Warm-up: the bridge opens the operator's daemon connection on its first drive.
-  paced(3, [&] { mqtt_drive(false); });
-  mqtt_stop();
-  paced(3, [&] { paho_drive(false); });
-  paho_stop();
-  {
-    LineClient client(robot.socket());
-    paced(3, [&] { direct_drive(client, false); });
-    client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
-    client.read_line(2000);
-  }
-  // Alternating blocks, so that both paths see the same load on the host.
-  for (int done = 0; done < settings.drives; done += settings.drive_block) {
-    const int n = std::min(settings.drive_block, settings.drives - done);
-    {
-      LineClient client(robot.socket());
-      paced(n, [&] { direct_drive(client, true); });
-      client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
-      client.read_line(2000);
-    }  // closed: control released
-    double cpu0 = cpu_s(robot.bridge().pid());
-    paced(n, [&] { mqtt_drive(true); });
-    results.mqtt_cpu_s += cpu_s(robot.bridge().pid()) - cpu0;
-    mqtt_stop();
-    cpu0 = cpu_s(robot.paho_bridge().pid());
-    paced(n, [&] { paho_drive(true); });
-    results.paho_cpu_s += cpu_s(robot.paho_bridge().pid()) - cpu0;
-    paho_stop();
-    paced(n, [&] { broker_hop(true); });
-  }
+  DrivePath hop{[&](bool counted) {
+                  hop_subscriber.take();
+                  const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", 0.5, ++id);
+                  const std::int64_t sent = publisher.publish(kHopTopic, payload);
+                  std::optional<std::int64_t> received;
+                  // Looked at every 20 ms (the callback took the time): a polling thread would take the
+                  // one vCPU of User-Mode Linux from the thread being timed.
+                  for (int waited = 0; !received && waited < 1000; waited += 20) {
+                    sleep_ms(20);
+                    for (const auto& message : hop_subscriber.take()) {
+                      if (message.payload == payload) received = message.received_ns;
+                    }
+                  }
+                  if (counted) results.broker_hop.add(0, sent, received);
+                  publisher.service();
+                },
+                [] {}};
+  hop.warm_up = false;
+  SocketDrives direct(robot.socket(), frames, results.first_errors);
+  std::vector<DrivePath> paths{direct.path(results.direct), std::move(mqtt), std::move(paho), std::move(hop)};
+  drive_in_alternating_blocks(paths, settings.drives);
+  results.mqtt_cpu_s = paths[1].cpu_s;
+  results.paho_cpu_s = paths[2].cpu_s;
   receipts.absorb();
   for (const auto& result : receipts.results()) {
     if (result.contains("error")) {
@@ -458,10 +324,6 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, CommandFrame
   }
   return results;
 }
-
-// ---- formatting ----
-
-std::string us(double value) { return fmt::format("{:.0f}", value); }
 
 // ---- the run ----
 
@@ -710,16 +572,12 @@ int measure(const Settings& settings, const fs::path& work) {
   json out;
   json errors = json::array();
   out["machine"] = machine_json();
-  out["settings"] = {{"quick", settings.quick},
-                     {"telemetry_seconds", settings.telemetry_s},
-                     {"drives", settings.drives},
-                     {"drive_block", settings.drive_block},
-                     {"drive_interval_ms", settings.drive_interval_ms},
-                     {"robots", settings.robots},
-                     {"run_all_up_to", settings.run_all_up_to},
-                     {"step_seconds", settings.step_s},
-                     {"operator_nodelay", settings.operator_nodelay},
-                     {"broker_config", settings.broker_config}};
+  out["settings"] = settings.to_json();
+  out["settings"].update({{"robots", settings.robots},
+                          {"run_all_up_to", settings.run_all_up_to},
+                          {"step_seconds", settings.step_s},
+                          {"operator_nodelay", settings.operator_nodelay},
+                          {"broker_config", settings.broker_config}});
   if (settings.serial) {
     out["machine"]["chassis_link"] =
         "serial: a pseudo-terminal whose controller is the benchmark; command frames timed when read (no receive timestamp)";
@@ -760,7 +618,7 @@ int measure(const Settings& settings, const fs::path& work) {
   json& telemetry = figures.telemetry;
 
   // ---- 1 robot: drives, over the broker and on the daemon's socket ----
-  std::cerr << "wheeltec-bench-mqtt: " << settings.drives << " drives over MQTT and as many on the daemon's socket\n";
+  std::cerr << "wheeltec-bench-mqtt: " << settings.drives.drives << " drives over MQTT and as many on the daemon's socket\n";
   const std::int64_t d0 = realtime_ns();
   const DriveResults drives = measure_drives(settings, r1, *command_frames(), fleet.broker->port(), receipts);
   const std::int64_t d1 = realtime_ns();
@@ -770,7 +628,7 @@ int measure(const Settings& settings, const fs::path& work) {
     while_driving = match_records(observer->record_frames(0), pairs_of(receipts.robot(r1.name()).telemetry), d0, d1);
     telemetry["via_mqtt_while_driving"] = match_json(while_driving, true);
   }
-  const auto p50_of = [](const DriveSeries& series) { return summarize(series.latency_us).p50_us; };
+  const auto p50_of = [](const DriveSeries& series) { return series.p50_us(); };
   const auto per_drive_us = [](double cpu_s, const DriveSeries& series) {
     const auto n = series.latency_us.size() + static_cast<std::size_t>(series.missed);
     return n == 0 ? 0.0 : cpu_s / static_cast<double>(n) * 1e6;
@@ -821,9 +679,7 @@ int measure(const Settings& settings, const fs::path& work) {
   out["drives"] = drive_json;
   out["broker_loss"] = loss_json;
   if (!settings.serial) out["scaling"] = steps;
-  out["errors"] = errors;
-  out["load_average_at_end"] = load_average();
-  out["elapsed_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  close_figures(out, errors, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 
   // ---- the tables ----
   const std::string frame = settings.serial ? "command frame" : "0x121 frame";
@@ -854,7 +710,7 @@ int measure(const Settings& settings, const fs::path& work) {
               << p50_p99(telemetry["direct_wheeltecd_subscriber"]) << " | "
               << telemetry["direct_wheeltecd_subscriber"]["count"] << " | " << figures.direct.lost() << " of " << figures.direct.on_bus
               << " |\n";
-    std::cout << "| 0x103 frame -> MQTT subscriber, while driving (" << us(1000.0 / settings.drive_interval_ms)
+    std::cout << "| 0x103 frame -> MQTT subscriber, while driving (" << us(1000.0 / settings.drives.interval_ms)
               << " drives/s) | " << p50_p99(telemetry["via_mqtt_while_driving"]) << " | "
               << telemetry["via_mqtt_while_driving"]["count"] << " | " << while_driving.lost() << " of "
               << while_driving.on_bus << " |\n";
@@ -901,20 +757,10 @@ int measure(const Settings& settings, const fs::path& work) {
         cpu["mosquitto_us_per_record"].get<double>(), cpu["emulator_us_per_record"].get<double>(),
         cpu["machine_busy_pct"].get<double>());
     if (!syscalls.is_null()) {
-      auto listing = [](const json& per_record) {
-        std::vector<std::pair<double, std::string>> calls;
-        for (const auto& [name, value] : per_record.items()) {
-          if (name != "total" && value.get<double>() >= 0.05) calls.emplace_back(value.get<double>(), name);
-        }
-        std::sort(calls.rbegin(), calls.rend());
-        std::string text;
-        for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
-        return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
-      };
       std::cout << fmt::format("| system calls per record (strace -c -f, {:.0f} s, {} records, stats every 1 s included) | |\n"
                                "|---|---|\n| wheeltec-mqtt | {} |\n| mosquitto | {} |\n\n",
                                syscalls["seconds"].get<double>(), syscalls["records"].get<std::size_t>(),
-                               listing(syscalls["bridge_per_record"]), listing(syscalls["mosquitto_per_record"]));
+                               syscall_listing(syscalls["bridge_per_record"]), syscall_listing(syscalls["mosquitto_per_record"]));
     }
     std::cout << "| robots | s | expected (20 Hz) | on the bus | delivered | lost: not accepted by wheeltecd / after it | "
                  "bridges' telemetry_dropped | "
@@ -936,44 +782,18 @@ int measure(const Settings& settings, const fs::path& work) {
                                step["mosquitto_cpu_pct"].get<double>(), step["machine_busy_pct"].get<double>());
     }
   }
-  if (!errors.empty()) {
-    std::cout << "\nErrors:\n";
-    for (const auto& error : errors) std::cout << "- " << error.get<std::string>() << "\n";
-  }
+  print_errors(errors);
   std::cout.flush();
-
-  if (!settings.json_path.empty()) std::ofstream(settings.json_path) << out.dump(2) << "\n";
-  return errors.empty() ? 0 : 1;
-}
-
-int run(const Settings& settings) {
-  if (!settings.work_dir.empty()) {
-    fs::create_directories(settings.work_dir);
-    return measure(settings, settings.work_dir);
-  }
-  std::string pattern = (fs::temp_directory_path() / "wheeltec-bench-mqtt.XXXXXX").string();
-  if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-  struct Remove {
-    fs::path path;
-    ~Remove() {
-      std::error_code ignored;
-      fs::remove_all(path, ignored);
-    }
-  } work{pattern};
-  return measure(settings, work.path);
+  return write_figures(settings, out);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(parse_arguments(argc, argv));
-  } catch (const std::invalid_argument& error) {
-    std::cerr << "wheeltec-bench-mqtt: " << error.what() << "\n";
-    usage();
-    return 2;
-  } catch (const std::exception& error) {
-    std::cerr << "wheeltec-bench-mqtt: " << error.what() << "\n";
-    return 1;
-  }
+  BenchCommandLine command_line("wheeltec-bench-mqtt", kUsage);
+  return run_main(command_line, [&] {
+    const Settings settings = parse_arguments(command_line, argc, argv);
+    const WorkDir work("wheeltec-bench-mqtt", settings.work_dir);
+    return measure(settings, work.path());
+  });
 }

@@ -49,5 +49,13 @@ nlohmann::json machine_json();
 
 // "p50 / p99" of a latency summary's JSON in whole microseconds, "-" without samples.
 std::string p50_p99(const nlohmann::json& summary);
+// A figure in whole microseconds; kibibytes of `key` in MiB with 2 decimals.
+std::string us(double value);
+std::string mib(const nlohmann::json& j, const char* key);
+// "TOTAL (NAME N, ...)": system calls per record, the most frequent first, those under 0.05 left out.
+std::string syscall_listing(const nlohmann::json& per_record);
+// The run's errors after its tables, if any.
+void print_errors(const nlohmann::json& errors);
+void sleep_ms(double ms);
 
 }  // namespace bench

@@ -1,6 +1,9 @@
 #include "bench_figures.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <iostream>
 #include <exception>
 #include <cstdlib>
 #include <fstream>
@@ -95,5 +98,27 @@ std::string p50_p99(const nlohmann::json& summary) {
   if (summary.value("count", 0) == 0) return "-";
   return fmt::format("{:.0f} / {:.0f}", summary["p50_us"].get<double>(), summary["p99_us"].get<double>());
 }
+
+std::string us(double value) { return fmt::format("{:.0f}", value); }
+std::string mib(const nlohmann::json& j, const char* key) { return fmt::format("{:.2f}", j.value(key, 0.0) / 1024.0); }
+
+std::string syscall_listing(const nlohmann::json& per_record) {
+  std::vector<std::pair<double, std::string>> calls;
+  for (const auto& [name, value] : per_record.items()) {
+    if (name != "total" && value.get<double>() >= 0.05) calls.emplace_back(value.get<double>(), name);
+  }
+  std::sort(calls.rbegin(), calls.rend());
+  std::string text;
+  for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
+  return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
+}
+
+void print_errors(const nlohmann::json& errors) {
+  if (errors.empty()) return;
+  std::cout << "\nErrors:\n";
+  for (const auto& error : errors) std::cout << "- " << error.get<std::string>() << "\n";
+}
+
+void sleep_ms(double ms) { std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(ms * 1000))); }
 
 }  // namespace bench
