@@ -15,7 +15,6 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -179,19 +178,13 @@ struct RateRun {
 };
 
 RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEndpoint& chassis, pid_t daemon) {
-  const int timer = ::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
-  const long interval_ns = std::max(1'000'000L, static_cast<long>(1e9 / rate_hz));
-  itimerspec spec{};
-  spec.it_interval.tv_sec = interval_ns / 1'000'000'000L;
-  spec.it_interval.tv_nsec = interval_ns % 1'000'000'000L;
-  spec.it_value = spec.it_interval;
   std::vector<std::size_t> lines(set.size(), 0);
   RateRun run;
   run.rate_hz = rate_hz;
   run.before = sample_process(daemon);
   run.subscribers_before = sample_process(::getpid());
   const double start = now_us();
-  ::timerfd_settime(timer, 0, &spec, nullptr);
+  const int timer = periodic_timer(rate_hz, 1'000'000L, TFD_CLOEXEC | TFD_NONBLOCK);
   const auto total = static_cast<std::uint64_t>(std::llround(rate_hz * duration_s));
   const double give_up = start + (duration_s * 2 + 5) * 1e6;  // an overloaded machine must not hang the run
   while (run.sent < total && now_us() < give_up) {
@@ -205,27 +198,13 @@ RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEn
     }
   }
   run.expected_lines = run.sent * set.size();
-  // Let the last notifications arrive: stop when complete or nothing came for 300 ms.
-  double last_progress = now_us();
-  auto received = [&] { return std::accumulate(lines.begin(), lines.end(), std::uint64_t{0}); };
-  while (received() < run.expected_lines && now_us() - last_progress < 300e3) {
-    const auto before = received();
-    set.poll(50, lines);
-    if (received() != before) last_progress = now_us();
-  }
+  run.received_lines = set.read_rest(lines, run.expected_lines);
   run.wall_s = (now_us() - start) / 1e6;
   run.after = sample_process(daemon);
   run.subscribers_after = sample_process(::getpid());
-  run.received_lines = received();
   ::close(timer);
   set.forget_extra();
   return run;
-}
-
-json stats_of(const fs::path& socket) {
-  LineClient client(socket);
-  client.send_line(R"({"jsonrpc":"2.0","id":1,"method":"stats"})");
-  return json::parse(client.read_line(2000)).at("result");
 }
 
 // The same while the subscribers keep being read (what they receive here is late and not
@@ -633,9 +612,9 @@ int measure(const Settings& s) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     const auto tx_before = interface_tx_packets(s.interface);
     const double t0 = now_us();
-    const json stats_before = stats_of(socket);
+    const json stats_before = api_call(socket, "stats");
     flood = run_at_rate(20.0, s.flood_s, one, chassis, daemon.pid());
-    const json stats_after = stats_of(socket);
+    const json stats_after = api_call(socket, "stats");
     flood_discarded = json::object();
     for (const auto& [reason, count] : stats_after["groups_discarded"].items()) {
       const auto delta = count.get<std::uint64_t>() - stats_before["groups_discarded"].value(reason, std::uint64_t{0});
@@ -737,9 +716,7 @@ int measure(const Settings& s) {
   t += fmt::format("| RSS, 0 clients (MiB) | {:.2f} | | | | |\n", rss0.rss_kib / 1024.0);
   t += fmt::format("| RSS, 64 clients (MiB) | {:.2f} | | | < 8 | {} |\n", rss64.rss_kib / 1024.0,
                    verdict(rss64.rss_kib < 8 * 1024));
-  std::cout << t;
-  out["table_markdown"] = t;
-  if (!s.json_path.empty()) std::ofstream(s.json_path) << out.dump(2) << "\n";
+  publish_table(t, out, s.json_path);
   return 0;
 }
 

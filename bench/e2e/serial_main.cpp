@@ -20,6 +20,7 @@
 
 #include "bench_clock.hpp"
 #include "bench_command_line.hpp"
+#include "bench_figures.hpp"
 #include "child_program.hpp"
 #include "gateway_latency.hpp"
 #include "pty_endpoint.hpp"
@@ -115,9 +116,7 @@ int run(const Options& s) {
                    command.count, p50_p99(command), p50_p99(floor_out));
   t += fmt::format("| record's last byte -> notification, 1 subscriber, n={} (lost {}) | {} | 24 bytes master -> slave: {} |\n",
                    telemetry.all.count, telemetry.lost, p50_p99(telemetry.all), p50_p99(floor_in));
-  std::cout << t;
-  out["table_markdown"] = t;
-  if (!s.json_path.empty()) std::ofstream(s.json_path) << out.dump(2) << "\n";
+  publish_table(t, out, s.json_path);
   return 0;
 }
 

@@ -34,7 +34,7 @@
 #include <fstream>
 #include <future>
 #include <iostream>
-#include <numeric>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -216,9 +216,7 @@ class RelayFloor final : public GatewayUnderTest {
   }
 
   std::uint64_t notifications_replaced() override {
-    bench::LineClient client(socket_);
-    client.send_line(R"({"jsonrpc":"2.0","id":1,"method":"stats"})");
-    return json::parse(client.read_line(2000)).at("result").at("notifications_dropped").get<std::uint64_t>();
+    return bench::api_call(socket_, "stats").at("notifications_dropped").get<std::uint64_t>();
   }
 
  private:
@@ -241,14 +239,8 @@ struct SendResult {
 
 SendResult send_records(int fd, double rate_hz, std::uint64_t total, int first_seq) {
   SendResult result;
-  const int timer = ::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC);
-  const long interval_ns = std::max(50'000L, static_cast<long>(1e9 / rate_hz));
-  itimerspec spec{};
-  spec.it_interval.tv_sec = interval_ns / 1'000'000'000L;
-  spec.it_interval.tv_nsec = interval_ns % 1'000'000'000L;
-  spec.it_value = spec.it_interval;
   const double start = bench::now_us();
-  ::timerfd_settime(timer, 0, &spec, nullptr);
+  const int timer = bench::periodic_timer(rate_hz, 50'000L, TFD_CLOEXEC);
   while (result.sent < total) {
     std::uint64_t expirations = 0;
     if (::read(timer, &expirations, sizeof(expirations)) < 0) break;
@@ -304,15 +296,7 @@ Step run_step(double rate_hz, double step_s, GatewayUnderTest& gateway, int send
   step.records = sent.sent;
   step.achieved_rate_hz = sent.send_s > 0 ? static_cast<double>(sent.sent) / sent.send_s : 0.0;
   step.expected = sent.sent * set.size();
-  // The last notifications: until all came, or none for 300 ms.
-  auto received = [&] { return std::accumulate(lines.begin(), lines.end(), std::uint64_t{0}); };
-  double last_progress = bench::now_us();
-  while (received() < step.expected && bench::now_us() - last_progress < 300e3) {
-    const auto got = received();
-    set.poll(50, lines);
-    if (received() != got) last_progress = bench::now_us();
-  }
-  step.received = received();
+  step.received = set.read_rest(lines, step.expected);
   step.gateway_cpu_s = gateway.cpu_s() - gateway_before;
   step.subscribers_cpu_s = thread_cpu_s(CLOCK_THREAD_CPUTIME_ID) - subscribers_before;
   step.replaced = gateway.notifications_replaced() - replaced_before;
@@ -356,28 +340,25 @@ int measure(const Settings& s) {
   const fs::path& dir = work.path();
 
   json out = {{"subscribers", kSubscribers}};
-  {
-    const fs::path socket = dir / "wheeltecd.sock";
+  // Each gateway fed through a frame socket pair of its own; `start` owns the gateway's end.
+  auto measure_gateway = [&](const std::string& name, auto&& start) {
+    const fs::path socket = dir / (name + ".sock");
     const auto [gateway_end, sender_end] = frame_socket_pair();
     json steps = json::array();
     {
-      DaemonPath daemon(socket, gateway_end);  // owns gateway_end from here
-      out["wheeltecd"]["max_no_loss_rate_hz"] = step_up(s, "wheeltecd", daemon, socket, sender_end, steps);
+      const auto gateway = start(socket, gateway_end);
+      out[name]["max_no_loss_rate_hz"] = step_up(s, name, *gateway, socket, sender_end, steps);
     }
-    out["wheeltecd"]["steps"] = steps;
+    out[name]["steps"] = steps;
     ::close(sender_end);
-  }
+  };
+  measure_gateway("wheeltecd", [](const fs::path& socket, int end) { return std::make_unique<DaemonPath>(socket, end); });
   if (!s.floor.empty()) {
-    const fs::path socket = dir / "floor.sock";
-    const auto [gateway_end, sender_end] = frame_socket_pair();
-    json steps = json::array();
-    {
-      RelayFloor relay(s.floor, socket, gateway_end, dir);
-      ::close(gateway_end);
-      out["floor"]["max_no_loss_rate_hz"] = step_up(s, "floor", relay, socket, sender_end, steps);
-    }
-    out["floor"]["steps"] = steps;
-    ::close(sender_end);
+    measure_gateway("floor", [&](const fs::path& socket, int end) {
+      auto relay = std::make_unique<RelayFloor>(s.floor, socket, end, dir);
+      ::close(end);
+      return relay;
+    });
   }
   std::cout << fmt::format("highest rate to {} subscribers with no loss (of the steps tried): wheeltecd {:.0f} records/s",
                            kSubscribers, out["wheeltecd"]["max_no_loss_rate_hz"].get<double>());

@@ -13,6 +13,10 @@ double now_us();
 // (SO_TIMESTAMPNS) and of the telemetry records' `time`.
 std::int64_t realtime_ns();
 
+// A timerfd (CLOCK_MONOTONIC, `flags` of timerfd_create) expiring `rate_hz` times a second, at
+// most once every `min_interval_ns`, armed.
+int periodic_timer(double rate_hz, long min_interval_ns, int flags);
+
 // What /proc says about a process: CPU time, context switches (each voluntary one is a
 // wakeup from a blocking wait) and resident memory.
 struct ProcessSample {

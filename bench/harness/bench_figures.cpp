@@ -99,6 +99,12 @@ std::string p50_p99(const nlohmann::json& summary) {
   return fmt::format("{:.0f} / {:.0f}", summary["p50_us"].get<double>(), summary["p99_us"].get<double>());
 }
 
+void latency_row(const std::string& label, const nlohmann::json& summary, const std::string& lost) {
+  std::cout << "| " << label << " | " << p50_p99(summary) << " | " << summary["count"].dump() << " | " << lost << " |\n";
+}
+
+std::string lost_of(const TelemetryMatch& match) { return fmt::format("{} of {}", match.lost(), match.on_bus); }
+
 std::string us(double value) { return fmt::format("{:.0f}", value); }
 std::string mib(const nlohmann::json& j, const char* key) { return fmt::format("{:.2f}", j.value(key, 0.0) / 1024.0); }
 
@@ -111,6 +117,12 @@ std::string syscall_listing(const nlohmann::json& per_record) {
   std::string text;
   for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
   return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
+}
+
+void publish_table(const std::string& table, nlohmann::json& out, const std::string& json_path) {
+  std::cout << table;
+  out["table_markdown"] = table;
+  if (!json_path.empty()) std::ofstream(json_path) << out.dump(2) << "\n";
 }
 
 void print_errors(const nlohmann::json& errors) {

@@ -42,7 +42,6 @@
 #include "mqtt_endpoints.hpp"
 #include "process_profile.hpp"
 #include "serial_chassis.hpp"
-#include "work_dir.hpp"
 
 namespace {
 
@@ -368,38 +367,28 @@ TelemetryFigures measure_telemetry(const Settings& settings, Fleet& fleet, BusOb
                                    const fs::path& work, json& errors) {
   Robot& r1 = *fleet.robots[0];
   std::cerr << "wheeltec-bench-mqtt: telemetry, 1 robot, " << settings.telemetry_s << " s\n";
-  const std::int64_t t0 = realtime_ns();
-  const double bridge0 = cpu_s(r1.bridge().pid()), daemon0 = cpu_s(r1.daemon().pid()),
-               broker0 = cpu_s(fleet.broker->pid()), emulator0 = cpu_s(r1.emulator().pid());
-  const MachineCpu machine0 = machine_cpu();
+  CpuWindow window({r1.bridge().pid(), r1.daemon().pid(), fleet.broker->pid(), r1.emulator().pid()});
   receipts.wait(settings.telemetry_s * 1000);
-  const std::int64_t t1 = realtime_ns();
-  const double bridge1 = cpu_s(r1.bridge().pid()), daemon1 = cpu_s(r1.daemon().pid()),
-               broker1 = cpu_s(fleet.broker->pid()), emulator1 = cpu_s(r1.emulator().pid());
-  const MachineCpu machine1 = machine_cpu();
+  window.close();
   receipts.wait(1000);  // records of the window still on their way
   const auto frames = observer.record_frames(0);
-  const TelemetryMatch via_mqtt = match_records(frames, pairs_of(receipts.robot(r1.name()).telemetry), t0, t1);
-  const TelemetryMatch direct = match_records(frames, observer.direct_notifications(), t0, t1);
-  std::size_t published = 0;  // records the bridge published in the window: those received in it
-  for (const auto& receipt : receipts.robot(r1.name()).telemetry) {
-    if (receipt.received_ns >= t0 && receipt.received_ns < t1) ++published;
-  }
-  const double window_s = static_cast<double>(t1 - t0) / 1e9;
+  const auto received = [&] { return pairs_of(receipts.robot(r1.name()).telemetry); };
+  const TelemetryMatch via_mqtt = match_records(frames, received(), window.from_ns, window.to_ns);
+  const TelemetryMatch direct = match_records(frames, observer.direct_notifications(), window.from_ns, window.to_ns);
+  // Records the bridge published in the window: those received in it.
+  const std::size_t published = received_between(received(), window.from_ns, window.to_ns);
+  const double window_s = window.seconds();
   auto per_record_us = [&](double cpu) { return published == 0 ? 0.0 : cpu / static_cast<double>(published) * 1e6; };
   json telemetry = {{"window_s", window_s},
                     {"via_mqtt", match_json(via_mqtt, true)},
                     {"direct_wheeltecd_subscriber", match_json(direct, true)}};
   json cpu = {{"records_published", published},
-              {"bridge_cpu_s", bridge1 - bridge0},
-              {"bridge_us_per_record", per_record_us(bridge1 - bridge0)},
-              {"wheeltecd_us_per_record", per_record_us(daemon1 - daemon0)},
-              {"mosquitto_us_per_record", per_record_us(broker1 - broker0)},
-              {"emulator_us_per_record", per_record_us(emulator1 - emulator0)},
-              {"machine_busy_pct", machine1.total > machine0.total
-                                       ? 100.0 * static_cast<double>(machine1.busy - machine0.busy) /
-                                             static_cast<double>(machine1.total - machine0.total)
-                                       : 0.0}};
+              {"bridge_cpu_s", window.cpu_s(0)},
+              {"bridge_us_per_record", per_record_us(window.cpu_s(0))},
+              {"wheeltecd_us_per_record", per_record_us(window.cpu_s(1))},
+              {"mosquitto_us_per_record", per_record_us(window.cpu_s(2))},
+              {"emulator_us_per_record", per_record_us(window.cpu_s(3))},
+              {"machine_busy_pct", window.busy_pct()}};
   if (via_mqtt.delivered == 0) errors.push_back("no telemetry record matched between the bus and the subscriber");
 
   // ---- 1 robot: system calls per record, counted exactly (strace -c), bridge and broker ----
@@ -407,30 +396,12 @@ TelemetryFigures measure_telemetry(const Settings& settings, Fleet& fleet, BusOb
   if (!settings.strace.empty()) {
     const double seconds = std::min(10.0, settings.telemetry_s);
     std::cerr << "wheeltec-bench-mqtt: system calls, 1 robot, " << seconds << " s under strace -c\n";
-    SyscallCount bridge_calls(settings.strace, r1.bridge().pid(), work, "wheeltec-mqtt");
-    SyscallCount broker_calls(settings.strace, fleet.broker->pid(), work, "mosquitto");
-    const std::int64_t c0 = realtime_ns();
-    receipts.wait(seconds * 1000);
-    const std::int64_t c1 = realtime_ns();
-    const auto bridge_counts = bridge_calls.stop();
-    const auto broker_counts = broker_calls.stop();
-    receipts.wait(500);
-    std::size_t records = 0;
-    for (const auto& receipt : receipts.robot(r1.name()).telemetry) {
-      if (receipt.received_ns >= c0 && receipt.received_ns < c1) ++records;
-    }
-    auto per_record = [&](const std::map<std::string, std::uint64_t>& counts) {
-      json j = json::object();
-      for (const auto& [name, calls] : counts) {
-        j[name] = records == 0 ? 0.0 : static_cast<double>(calls) / static_cast<double>(records);
-      }
-      return j;
-    };
-    syscalls = {{"seconds", static_cast<double>(c1 - c0) / 1e9},
-                {"records", records},
-                {"bridge_per_record", per_record(bridge_counts)},
-                {"mosquitto_per_record", per_record(broker_counts)}};
-    if (records == 0) errors.push_back("no telemetry record while the system calls were counted");
+    syscalls = syscalls_per_record(
+        settings.strace, work, seconds,
+        {{"wheeltec-mqtt", "bridge_per_record", r1.bridge().pid()}, {"mosquitto", "mosquitto_per_record", fleet.broker->pid()}},
+        [&](double ms) { receipts.wait(ms); },
+        [&](std::int64_t from_ns, std::int64_t to_ns) { return received_between(received(), from_ns, to_ns); });
+    if (syscalls["records"] == 0) errors.push_back("no telemetry record while the system calls were counted");
   }
   return {std::move(telemetry), std::move(cpu), std::move(syscalls), via_mqtt, direct, published, window_s};
 }
@@ -450,27 +421,23 @@ json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observ
       break;
     }
     receipts.wait(1000);
-    std::vector<double> bridge_before, broker_before(1), daemons_before, emulators_before;
-    const std::int64_t s0 = realtime_ns();
+    std::vector<pid_t> pids{fleet.broker->pid()};
     for (std::size_t i = 0; i < count; ++i) {
-      bridge_before.push_back(cpu_s(fleet.robots[i]->bridge().pid()));
-      daemons_before.push_back(cpu_s(fleet.robots[i]->daemon().pid()));
-      emulators_before.push_back(cpu_s(fleet.robots[i]->emulator().pid()));
+      pids.insert(pids.end(), {fleet.robots[i]->bridge().pid(), fleet.robots[i]->daemon().pid(), fleet.robots[i]->emulator().pid()});
     }
-    broker_before[0] = cpu_s(fleet.broker->pid());
-    const MachineCpu m0 = machine_cpu();
+    CpuWindow window(pids);
     receipts.wait(settings.step_s * 1000);
-    const std::int64_t s1 = realtime_ns();
+    window.close();
+    const std::int64_t s0 = window.from_ns, s1 = window.to_ns;
     double bridges_cpu = 0, daemons_cpu = 0, emulators_cpu = 0;
     for (std::size_t i = 0; i < count; ++i) {
-      bridges_cpu += cpu_s(fleet.robots[i]->bridge().pid()) - bridge_before[i];
-      daemons_cpu += cpu_s(fleet.robots[i]->daemon().pid()) - daemons_before[i];
-      emulators_cpu += cpu_s(fleet.robots[i]->emulator().pid()) - emulators_before[i];
+      bridges_cpu += window.cpu_s(1 + 3 * i);
+      daemons_cpu += window.cpu_s(2 + 3 * i);
+      emulators_cpu += window.cpu_s(3 + 3 * i);
     }
-    const double broker_cpu = cpu_s(fleet.broker->pid()) - broker_before[0];
-    const MachineCpu m1 = machine_cpu();
+    const double broker_cpu = window.cpu_s(0);
     receipts.wait(1500);  // late records and the stats published after the window
-    const double seconds = static_cast<double>(s1 - s0) / 1e9;
+    const double seconds = window.seconds();
 
     TelemetryMatch all;
     std::size_t received_in_window = 0;
@@ -485,9 +452,7 @@ json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observ
       all.on_bus += match.on_bus;
       all.delivered += match.delivered;
       all.latency_us.insert(all.latency_us.end(), match.latency_us.begin(), match.latency_us.end());
-      for (const auto& receipt : got.telemetry) {
-        if (receipt.received_ns >= s0 && receipt.received_ns < s1) ++received_in_window;
-      }
+      received_in_window += received_between(pairs_of(got.telemetry), s0, s1);
       // The bridge's counters: the last stats before the window and the last one after it.
       json before, after;
       for (const auto& stats : got.stats) {
@@ -535,9 +500,7 @@ json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observ
       for (auto& name : robot.ended()) ended.push_back(name);
     }
     const double expected = kTelemetryHz * n * seconds;
-    const double busy_pct = m1.total > m0.total ? 100.0 * static_cast<double>(m1.busy - m0.busy) /
-                                                      static_cast<double>(m1.total - m0.total)
-                                                : 0.0;
+    const double busy_pct = window.busy_pct();
     json step = match_json(all);
     step["robots"] = n;
     step["seconds"] = seconds;
@@ -569,15 +532,12 @@ json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observ
 // Everything that runs: the programs end (in reverse order of their start) when it returns.
 int measure(const Settings& settings, const fs::path& work) {
   const auto started = std::chrono::steady_clock::now();
-  json out;
+  json out = start_figures(settings, {{"robots", settings.robots},
+                                      {"run_all_up_to", settings.run_all_up_to},
+                                      {"step_seconds", settings.step_s},
+                                      {"operator_nodelay", settings.operator_nodelay},
+                                      {"broker_config", settings.broker_config}});
   json errors = json::array();
-  out["machine"] = machine_json();
-  out["settings"] = settings.to_json();
-  out["settings"].update({{"robots", settings.robots},
-                          {"run_all_up_to", settings.run_all_up_to},
-                          {"step_seconds", settings.step_s},
-                          {"operator_nodelay", settings.operator_nodelay},
-                          {"broker_config", settings.broker_config}});
   if (settings.serial) {
     out["machine"]["chassis_link"] =
         "serial: a pseudo-terminal whose controller is the benchmark; command frames timed when read (no receive timestamp)";
@@ -689,31 +649,22 @@ int measure(const Settings& settings, const fs::path& work) {
                                                                              : "";
   std::cout << "| wheeltec-mqtt, 1 robot (" << where
             << "1 broker, 1 subscriber) | p50 / p99 (us) | n | lost or missed |\n|---|---|---|---|\n";
-  std::cout << "| drive published on the broker -> first " << frame << " with its velocity | "
-            << p50_p99(drive_json["via_mqtt"]) << " | " << drive_json["via_mqtt"]["count"] << " | "
-            << drives.mqtt.missed << " |\n";
-  std::cout << "| drive published on the broker -> first " << frame << ", through the paho-mqtt bridge (Python) | "
-            << p50_p99(drive_json["via_paho_bridge"]) << " | " << drive_json["via_paho_bridge"]["count"] << " | "
-            << drives.paho.missed << " |\n";
-  std::cout << "| reference: drive written on wheeltecd's socket -> frame (same blocks, alternating) | "
-            << p50_p99(drive_json["direct_wheeltecd"]) << " | " << drive_json["direct_wheeltecd"]["count"] << " | "
-            << drives.direct.missed << " |\n";
-  std::cout << "| reference: the same message published -> a plain subscriber's callback (the broker's hop, in both "
-               "bridges' figures; same blocks) | "
-            << p50_p99(drive_json["broker_hop"]) << " | " << drive_json["broker_hop"]["count"] << " | "
-            << drives.broker_hop.missed << " |\n";
+  latency_row("drive published on the broker -> first " + frame + " with its velocity", drive_json["via_mqtt"],
+              std::to_string(drives.mqtt.missed));
+  latency_row("drive published on the broker -> first " + frame + ", through the paho-mqtt bridge (Python)",
+              drive_json["via_paho_bridge"], std::to_string(drives.paho.missed));
+  latency_row("reference: drive written on wheeltecd's socket -> frame (same blocks, alternating)",
+              drive_json["direct_wheeltecd"], std::to_string(drives.direct.missed));
+  latency_row("reference: the same message published -> a plain subscriber's callback (the broker's hop, in both "
+              "bridges' figures; same blocks)",
+              drive_json["broker_hop"], std::to_string(drives.broker_hop.missed));
   if (!settings.serial) {
-    std::cout << "| 0x103 frame on the bus -> record at the MQTT subscriber, nobody driving | "
-              << p50_p99(telemetry["via_mqtt"]) << " | " << telemetry["via_mqtt"]["count"] << " | " << figures.via_mqtt.lost()
-              << " of " << figures.via_mqtt.on_bus << " |\n";
-    std::cout << "| reference: 0x103 frame -> notification at a direct wheeltecd subscriber | "
-              << p50_p99(telemetry["direct_wheeltecd_subscriber"]) << " | "
-              << telemetry["direct_wheeltecd_subscriber"]["count"] << " | " << figures.direct.lost() << " of " << figures.direct.on_bus
-              << " |\n";
-    std::cout << "| 0x103 frame -> MQTT subscriber, while driving (" << us(1000.0 / settings.drives.interval_ms)
-              << " drives/s) | " << p50_p99(telemetry["via_mqtt_while_driving"]) << " | "
-              << telemetry["via_mqtt_while_driving"]["count"] << " | " << while_driving.lost() << " of "
-              << while_driving.on_bus << " |\n";
+    latency_row("0x103 frame on the bus -> record at the MQTT subscriber, nobody driving", telemetry["via_mqtt"],
+                lost_of(figures.via_mqtt));
+    latency_row("reference: 0x103 frame -> notification at a direct wheeltecd subscriber",
+                telemetry["direct_wheeltecd_subscriber"], lost_of(figures.direct));
+    latency_row("0x103 frame -> MQTT subscriber, while driving (" + us(1000.0 / settings.drives.interval_ms) + " drives/s)",
+                telemetry["via_mqtt_while_driving"], lost_of(while_driving));
   }
   std::cout << "\n";
   {
@@ -783,17 +734,11 @@ int measure(const Settings& settings, const fs::path& work) {
     }
   }
   print_errors(errors);
-  std::cout.flush();
   return write_figures(settings, out);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  BenchCommandLine command_line("wheeltec-bench-mqtt", kUsage);
-  return run_main(command_line, [&] {
-    const Settings settings = parse_arguments(command_line, argc, argv);
-    const WorkDir work("wheeltec-bench-mqtt", settings.work_dir);
-    return measure(settings, work.path());
-  });
+  return bench::bridge_main("wheeltec-bench-mqtt", kUsage, argc, argv, parse_arguments, measure);
 }

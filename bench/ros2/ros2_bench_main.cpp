@@ -45,7 +45,6 @@
 #include "loopback_capture.hpp"
 #include "process_profile.hpp"
 #include "ros2_peer.hpp"
-#include "work_dir.hpp"
 
 namespace {
 
@@ -278,15 +277,13 @@ std::string logs(Robot& robot, ChildProgram* bridge) {
 // Everything that runs: the programs end (in reverse order of their start) when it returns.
 int measure(const Settings& settings, const fs::path& work) {
   const auto started = std::chrono::steady_clock::now();
-  json out;
+  json out = start_figures(
+      settings, {{"domain_id", settings.domain_id},
+                 {"readers", settings.all_readers ? json{"odom", "imu", "tf"} : json{"odom"}},
+                 {"cmd_vel_writer", "RELIABLE, KEEP_LAST 10, VOLATILE"},
+                 {"odom_reader", settings.best_effort_readers ? "BEST_EFFORT, KEEP_LAST 5, VOLATILE (sensor data)"
+                                                              : "RELIABLE, KEEP_LAST 10, VOLATILE (default)"}});
   json errors = json::array();
-  out["machine"] = machine_json();
-  out["settings"] = settings.to_json();
-  out["settings"].update({                     {"domain_id", settings.domain_id},
-                          {"readers", settings.all_readers ? json{"odom", "imu", "tf"} : json{"odom"}},
-                     {"cmd_vel_writer", "RELIABLE, KEEP_LAST 10, VOLATILE"},
-                     {"odom_reader", settings.best_effort_readers ? "BEST_EFFORT, KEEP_LAST 5, VOLATILE (sensor data)"
-                                                               : "RELIABLE, KEEP_LAST 10, VOLATILE (default)"}});
 
   // The bridge and the participant here: loopback only, on the domain given, whatever the
   // environment says.
@@ -330,15 +327,10 @@ int measure(const Settings& settings, const fs::path& work) {
   const json counters0 = daemon_counters(robot.socket());
   const json udp0 = udp_counters();
   const json traffic0 = capture ? capture->counts() : json::object();
-  const std::int64_t t0 = realtime_ns();
-  const double bridge0 = cpu_s(bridge.pid()), daemon0 = cpu_s(robot.daemon().pid()),
-               emulator0 = cpu_s(robot.emulator().pid()), self0 = cpu_s(::getpid());
-  const MachineCpu machine0 = machine_cpu();
+  CpuWindow window({bridge.pid(), robot.daemon().pid(), robot.emulator().pid(), ::getpid()});
   sleep_ms(settings.telemetry_s * 1000);
-  const std::int64_t t1 = realtime_ns();
-  const double bridge1 = cpu_s(bridge.pid()), daemon1 = cpu_s(robot.daemon().pid()),
-               emulator1 = cpu_s(robot.emulator().pid()), self1 = cpu_s(::getpid());
-  const MachineCpu machine1 = machine_cpu();
+  window.close();
+  const std::int64_t t0 = window.from_ns, t1 = window.to_ns;
   const json counters1 = daemon_counters(robot.socket());
   const json udp1 = udp_counters();
   const json traffic1 = capture ? capture->counts() : json::object();
@@ -347,11 +339,9 @@ int measure(const Settings& settings, const fs::path& work) {
   const auto odom = peer.odom_receipts();
   const TelemetryMatch via_ros2 = match_records(frames, odom, t0, t1);
   const TelemetryMatch direct = match_records(frames, observer.direct_notifications(), t0, t1);
-  std::size_t published = 0;  // records the bridge published in the window: odom samples received in it
-  for (const auto& [time_us, arrival_ns] : odom) {
-    if (arrival_ns >= t0 && arrival_ns < t1) ++published;
-  }
-  const double window_s = static_cast<double>(t1 - t0) / 1e9;
+  // Records the bridge published in the window: odom samples received in it.
+  const std::size_t published = received_between(odom, t0, t1);
+  const double window_s = window.seconds();
   auto per_record_us = [&](double cpu) { return published == 0 ? 0.0 : cpu / static_cast<double>(published) * 1e6; };
   json telemetry = {{"window_s", window_s},
                     {"via_ros2", match_json(via_ros2, true)},
@@ -363,12 +353,12 @@ int measure(const Settings& settings, const fs::path& work) {
               {"records_published", published},
               {"imu_samples", peer.imu_samples(t0, t1)},
               {"tf_samples", peer.tf_samples(t0, t1)},
-              {"bridge_cpu_s", bridge1 - bridge0},
-              {"bridge_us_per_record", per_record_us(bridge1 - bridge0)},
-              {"wheeltecd_us_per_record", per_record_us(daemon1 - daemon0)},
-              {"emulator_us_per_record", per_record_us(emulator1 - emulator0)},
-              {"benchmark_us_per_record", per_record_us(self1 - self0)},
-              {"machine_busy_pct", busy_pct(machine0, machine1)}};
+              {"bridge_cpu_s", window.cpu_s(0)},
+              {"bridge_us_per_record", per_record_us(window.cpu_s(0))},
+              {"wheeltecd_us_per_record", per_record_us(window.cpu_s(1))},
+              {"emulator_us_per_record", per_record_us(window.cpu_s(2))},
+              {"benchmark_us_per_record", per_record_us(window.cpu_s(3))},
+              {"machine_busy_pct", window.busy_pct()}};
   if (capture) {
     telemetry["via_ros2_split"] =
         split_telemetry(frames, odom, capture->odom_sent(), t0, t1).to_json("bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader");
@@ -383,22 +373,11 @@ int measure(const Settings& settings, const fs::path& work) {
     const double seconds = settings.quick ? 2.0 : std::min(10.0, settings.telemetry_s);
     std::cerr << "wheeltec-bench-ros2: system calls, " << seconds << " s under strace -c\n";
     try {
-      SyscallCount bridge_calls(settings.strace, bridge.pid(), work, "wheeltec-ros2");
-      const std::int64_t c0 = realtime_ns();
-      sleep_ms(seconds * 1000);
-      const std::int64_t c1 = realtime_ns();
-      const auto counts = bridge_calls.stop();
-      sleep_ms(500);
-      std::size_t records = 0;
-      for (const auto& [time_us, arrival_ns] : peer.odom_receipts()) {
-        if (arrival_ns >= c0 && arrival_ns < c1) ++records;
-      }
-      json per_record = json::object();
-      for (const auto& [name, calls] : counts) {
-        per_record[name] = records == 0 ? 0.0 : static_cast<double>(calls) / static_cast<double>(records);
-      }
-      syscalls = {{"seconds", static_cast<double>(c1 - c0) / 1e9}, {"records", records}, {"bridge_per_record", per_record}};
-      if (records == 0) errors.push_back("no odom sample while the system calls were counted");
+      syscalls = syscalls_per_record(settings.strace, work, seconds, {{"wheeltec-ros2", "bridge_per_record", bridge.pid()}},
+                                     sleep_ms, [&](std::int64_t from_ns, std::int64_t to_ns) {
+                                       return received_between(peer.odom_receipts(), from_ns, to_ns);
+                                     });
+      if (syscalls["records"] == 0) errors.push_back("no odom sample while the system calls were counted");
     } catch (const std::exception& error) {
       errors.push_back(std::string("strace: ") + error.what());
     }
@@ -408,11 +387,10 @@ int measure(const Settings& settings, const fs::path& work) {
   std::cerr << "wheeltec-bench-ros2: " << settings.drives.drives << " cmd_vel over DDS and as many drives on the daemon's socket\n";
   const json counters2 = daemon_counters(robot.socket());
   const json udp2 = udp_counters();
-  const std::int64_t d0 = realtime_ns();
-  const double bridge_d0 = cpu_s(bridge.pid());
+  CpuWindow driving({bridge.pid()});
   const DriveResults drives = measure_drives(settings, robot, peer);
-  const std::int64_t d1 = realtime_ns();
-  const double bridge_d1 = cpu_s(bridge.pid());
+  driving.close();
+  const std::int64_t d0 = driving.from_ns, d1 = driving.to_ns;
   const json counters3 = daemon_counters(robot.socket());
   const json udp3 = udp_counters();
   sleep_ms(1000);
@@ -442,17 +420,14 @@ int measure(const Settings& settings, const fs::path& work) {
   const json memory = {{"wheeltec_ros2", memory_json(bridge.pid())}, {"wheeltecd", memory_json(robot.daemon().pid())}};
   // While driving: the bridge's CPU over the drives (its cmd_vel and their drives included) per
   // odom sample it published meanwhile.
-  std::size_t published_driving = 0;
-  for (const auto& [time_us, arrival_ns] : peer.odom_receipts()) {
-    if (arrival_ns >= d0 && arrival_ns < d1) ++published_driving;
-  }
+  const std::size_t published_driving = received_between(peer.odom_receipts(), d0, d1);
   cpu["while_driving"] = {
       {"seconds", static_cast<double>(d1 - d0) / 1e9},
-      {"bridge_cpu_s", bridge_d1 - bridge_d0},
+      {"bridge_cpu_s", driving.cpu_s(0)},
       {"records_published", published_driving},
       {"cmd_vel_published", settings.drives.drives + 3},
       {"bridge_us_per_record",
-       published_driving == 0 ? 0.0 : (bridge_d1 - bridge_d0) / static_cast<double>(published_driving) * 1e6}};
+       published_driving == 0 ? 0.0 : driving.cpu_s(0) / static_cast<double>(published_driving) * 1e6}};
   if (memory["wheeltec_ros2"]["rss_kib"].get<std::uint64_t>() == 0) errors.push_back("no VmRSS of wheeltec-ros2");
   const json diagnostics = peer.last_diagnostics();
   const json udp_drops = udp_drops_by_process({{"wheeltec_ros2", bridge.pid()}, {"benchmark_fast_dds_side", ::getpid()}});
@@ -481,9 +456,8 @@ int measure(const Settings& settings, const fs::path& work) {
   const bool uml = out["machine"]["user_mode_linux"].get<bool>();
   std::cout << "| wheeltec-ros2 (" << (uml ? "User-Mode Linux, " : "") << "Fast DDS 2.9 peer on loopback, "
             << (settings.best_effort_readers ? "BEST_EFFORT" : "RELIABLE") << " odom reader) | p50 / p99 (us) | n | lost or missed |\n|---|---|---|---|\n";
-  std::cout << "| cmd_vel published (RELIABLE writer) -> first 0x121 frame with its velocity | "
-            << p50_p99(drive_json["via_ros2"]) << " | " << drive_json["via_ros2"]["count"] << " | "
-            << drives.ros2.missed << " |\n";
+  latency_row("cmd_vel published (RELIABLE writer) -> first 0x121 frame with its velocity", drive_json["via_ros2"],
+              std::to_string(drives.ros2.missed));
   auto split_row = [](const json& parent, const char* key, const char* first, const char* second, const std::string& label) {
     if (!parent.contains(key)) return;
     const json& split = parent[key];
@@ -493,28 +467,21 @@ int measure(const Settings& settings, const fs::path& work) {
   split_row(drive_json, "via_ros2_split", "publish_to_dds_data_on_lo", "dds_data_on_lo_to_frame",
             "split at the cmd_vel datagram on lo: publish -> datagram (Fast DDS writer) and datagram -> frame "
             "(wheeltec-ros2 and wheeltecd)");
-  std::cout << "| reference: drive written on wheeltecd's socket -> frame (same blocks, alternating) | "
-            << p50_p99(drive_json["direct_wheeltecd"]) << " | " << drive_json["direct_wheeltecd"]["count"] << " | "
-            << drives.direct.missed << " |\n";
-  std::cout << "| 0x103 frame on the bus -> odom at the Fast DDS reader, nobody driving | "
-            << p50_p99(telemetry["via_ros2"]) << " | " << telemetry["via_ros2"]["count"] << " | " << via_ros2.lost()
-            << " of " << via_ros2.on_bus << " |\n";
+  latency_row("reference: drive written on wheeltecd's socket -> frame (same blocks, alternating)",
+              drive_json["direct_wheeltecd"], std::to_string(drives.direct.missed));
+  latency_row("0x103 frame on the bus -> odom at the Fast DDS reader, nobody driving", telemetry["via_ros2"],
+              lost_of(via_ros2));
   split_row(telemetry, "via_ros2_split", "bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader",
             "split at the odom datagram on lo: frame -> datagram (wheeltecd and wheeltec-ros2) and datagram -> "
             "reader (Fast DDS)");
-  std::cout << "| reference: 0x103 frame -> notification at a direct wheeltecd subscriber | "
-            << p50_p99(telemetry["direct_wheeltecd_subscriber"]) << " | "
-            << telemetry["direct_wheeltecd_subscriber"]["count"] << " | " << direct.lost() << " of " << direct.on_bus
-            << " |\n";
-  std::cout << "| 0x103 frame -> odom, while driving (" << us(1000.0 / settings.drives.interval_ms) << " cmd_vel/s) | "
-            << p50_p99(telemetry["via_ros2_while_driving"]) << " | " << telemetry["via_ros2_while_driving"]["count"]
-            << " | " << while_driving.lost() << " of " << while_driving.on_bus << " |\n";
+  latency_row("reference: 0x103 frame -> notification at a direct wheeltecd subscriber",
+              telemetry["direct_wheeltecd_subscriber"], lost_of(direct));
+  latency_row("0x103 frame -> odom, while driving (" + us(1000.0 / settings.drives.interval_ms) + " cmd_vel/s)",
+              telemetry["via_ros2_while_driving"], lost_of(while_driving));
   split_row(telemetry, "via_ros2_while_driving_split", "bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader",
             "split at the odom datagram on lo, while driving");
-  std::cout << "| reference: 0x103 frame -> direct wheeltecd subscriber, while driving | "
-            << p50_p99(telemetry["direct_wheeltecd_subscriber_while_driving"]) << " | "
-            << telemetry["direct_wheeltecd_subscriber_while_driving"]["count"] << " | " << direct_while_driving.lost()
-            << " of " << direct_while_driving.on_bus << " |\n";
+  latency_row("reference: 0x103 frame -> direct wheeltecd subscriber, while driving",
+              telemetry["direct_wheeltecd_subscriber_while_driving"], lost_of(direct_while_driving));
   auto counters_text = [](const json& delta) {
     return fmt::format("{} / {} / {}", delta.value("records_accepted", std::uint64_t{0}),
                        delta.value("groups_discarded", std::uint64_t{0}),
@@ -579,18 +546,11 @@ int measure(const Settings& settings, const fs::path& work) {
     std::cout << "\nFirst error replies:\n";
     for (const auto& error : drives.first_errors) std::cout << "- " << error << "\n";
   }
-  std::cout.flush();
-
   return write_figures(settings, out);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  BenchCommandLine command_line("wheeltec-bench-ros2", kUsage);
-  return run_main(command_line, [&] {
-    const Settings settings = parse_arguments(command_line, argc, argv);
-    const WorkDir work("wheeltec-bench-ros2", settings.work_dir);
-    return measure(settings, work.path());
-  });
+  return bench::bridge_main("wheeltec-bench-ros2", kUsage, argc, argv, parse_arguments, measure);
 }
