@@ -239,16 +239,7 @@ RateRun throughput(const fs::path& socket, CanEndpoint& chassis, pid_t gateway, 
                  {"achieved_rate_hz", run.achieved_rate_hz()}, {"reached_rate", run.reached_rate()},
                  {"cpu_us_per_record", run.sent ? 1e6 * run.cpu_s() / static_cast<double>(run.sent) : 0.0}};
     const json stats_after = stats_while_draining(socket, set);
-    json& stats = step["gateway_stats"] = json::object();
-    for (const auto& [key, value] : stats_after.items()) {
-      if (value.is_number_unsigned()) stats[key] = value.get<std::uint64_t>() - stats_before.value(key, std::uint64_t{0});
-      if (!value.is_object()) continue;
-      stats[key] = json::object();  // counts by reason: those that changed
-      for (const auto& [reason, count] : value.items()) {
-        const auto delta = count.get<std::uint64_t>() - stats_before[key].value(reason, std::uint64_t{0});
-        if (delta > 0) stats[key][reason] = delta;
-      }
-    }
+    step["gateway_stats"] = counters_delta(stats_before, stats_after);
     std::cerr << "  " << step.dump() << "\n";
     steps.push_back(step);
     if (run.lost() > 0 || !run.reached_rate()) break;
@@ -507,6 +498,63 @@ Floors measure_floors(const Settings& s, const fs::path& dir, json& out) {
   return floors;
 }
 
+// The daemon's command latency in turns with the relay floor's; with --strace, their system
+// calls per drive in a second pass.
+InterleavedCommands measure_commands(const Settings& s, const fs::path& dir, const Gateway& daemon, CanEndpoint& observer,
+                                     json& out) {
+  std::cerr << "bench: wheeltecd command latency, in turns with the relay floor\n";
+  InterleavedCommands commands;
+  {
+    const fs::path& socket = daemon.socket;
+    const Gateway relay = start_relay(s, dir, "floor");
+    const fs::path& relay_socket = relay.socket;
+    while (observer.receive(0)) {
+    }
+    commands = interleaved_command_latency(socket, relay_socket, observer, s.commands);
+    if (!s.strace.empty()) {
+      // Counted in a second pass: strace slows every call, which would distort the latencies above.
+      std::cerr << "bench: wheeltecd and relay floor commands under strace -c\n";
+      optional_count("system calls per drive", [&] {
+        SyscallCount daemon_count(s.strace, daemon.pid(), dir, "wheeltecd-commands");
+        SyscallCount relay_count(s.strace, relay.pid(), dir, "relay-commands");
+        const double start = now_us();
+        interleaved_command_latency(socket, relay_socket, observer, s.commands);
+        const double seconds = (now_us() - start) / 1e6;
+        const auto per_drive = [&](const std::map<std::string, std::uint64_t>& calls) {
+          return json{{"drives", s.commands}, {"seconds", seconds}, {"syscalls", calls},
+                      {"syscalls_per_drive", static_cast<double>(calls.at("total")) / s.commands}};
+        };
+        out["wheeltecd"]["command_syscalls"] = per_drive(daemon_count.stop());
+        out["floor"]["relay_command_syscalls"] = per_drive(relay_count.stop());
+      });
+    }
+  }
+  out["wheeltecd"]["command_latency"] = commands.daemon.to_json();
+  out["floor"]["relay_command_latency"] = commands.relay.to_json();
+  return commands;
+}
+
+// The daemon with 1 subscriber at 20 Hz while cangen floods the bus with foreign frames (null
+// without --cangen).
+json measure_flood(const Settings& s, const fs::path& dir, const Gateway& daemon, CanEndpoint& chassis) {
+  if (s.cangen.empty()) return nullptr;
+  std::cerr << "bench: wheeltecd under a foreign-traffic flood for " << s.flood_s << " s\n";
+  SubscriberSet one(daemon.socket, 1);
+  ChildProgram cangen("cangen", {s.cangen, s.interface, "-g", "0", "-i", "-I", "555", "-L", "8", "-D", "r"}, dir);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const auto tx_before = interface_tx_packets(s.interface);
+  const double t0 = now_us();
+  const json stats_before = api_call(daemon.socket, "stats");
+  const RateRun flood = run_at_rate(20.0, s.flood_s, one, chassis, daemon.pid());
+  const json stats_after = api_call(daemon.socket, "stats");
+  // Groups the daemon discarded during the flood, by reason.
+  const json discarded = counters_delta(stats_before, stats_after).value("groups_discarded", json::object());
+  const double fps = static_cast<double>(interface_tx_packets(s.interface) - tx_before) / ((now_us() - t0) / 1e6);
+  cangen.terminate();
+  return {{"foreign_frames_per_s", fps}, {"records", flood.sent}, {"lost", flood.lost()},
+          {"cpu_percent", 100.0 * flood.cpu_s() / flood.wall_s}, {"groups_discarded", discarded}};
+}
+
 int measure(const Settings& s) {
   const WorkDir work("wheeltec-bench");
   const fs::path& dir = work.path();
@@ -549,40 +597,13 @@ int measure(const Settings& s) {
     });
   }
 
-  std::cerr << "bench: wheeltecd command latency, in turns with the relay floor\n";
-  InterleavedCommands commands;
-  {
-    const Gateway relay = start_relay(s, dir, "floor");
-    const fs::path& relay_socket = relay.socket;
-    while (observer.receive(0)) {
-    }
-    commands = interleaved_command_latency(socket, relay_socket, observer, s.commands);
-    if (!s.strace.empty()) {
-      // Counted in a second pass: strace slows every call, which would distort the latencies above.
-      std::cerr << "bench: wheeltecd and relay floor commands under strace -c\n";
-      optional_count("system calls per drive", [&] {
-        SyscallCount daemon_count(s.strace, daemon.pid(), dir, "wheeltecd-commands");
-        SyscallCount relay_count(s.strace, relay.pid(), dir, "relay-commands");
-        const double start = now_us();
-        interleaved_command_latency(socket, relay_socket, observer, s.commands);
-        const double seconds = (now_us() - start) / 1e6;
-        const auto per_drive = [&](const std::map<std::string, std::uint64_t>& calls) {
-          return json{{"drives", s.commands}, {"seconds", seconds}, {"syscalls", calls},
-                      {"syscalls_per_drive", static_cast<double>(calls.at("total")) / s.commands}};
-        };
-        out["wheeltecd"]["command_syscalls"] = per_drive(daemon_count.stop());
-        out["floor"]["relay_command_syscalls"] = per_drive(relay_count.stop());
-      });
-    }
-  }
+  const InterleavedCommands commands = measure_commands(s, dir, daemon, observer, out);
   const LatencySummary command = summarize(commands.daemon.total);
   const LatencySummary relay_command = summarize(commands.relay.total);
   const LatencySummary command_to_frame = summarize(commands.daemon.to_frame);
   const LatencySummary relay_to_frame = summarize(commands.relay.to_frame);
   const LatencySummary command_after_frame = summarize(commands.daemon.after_frame);
   const LatencySummary relay_after_frame = summarize(commands.relay.after_frame);
-  out["wheeltecd"]["command_latency"] = commands.daemon.to_json();
-  out["floor"]["relay_command_latency"] = commands.relay.to_json();
 
   std::cerr << "bench: wheeltecd telemetry latency\n";
   const TelemetryLatency tel1 = telemetry_latency(socket, chassis, 1, s.records_1);
@@ -601,30 +622,7 @@ int measure(const Settings& s) {
   out["wheeltecd"]["throughput"] = {{"max_no_loss_rate_hz", best.rate_hz}, {"cpu_us_per_record", cpu_us_per_record}};
   out["wheeltecd"]["rss_kib"] = {{"clients_0", rss0.rss_kib}, {"clients_64", rss64.rss_kib}, {"peak", rss64.hwm_kib}};
 
-  json flood_json = nullptr;
-  RateRun flood;
-  double flood_fps = 0;
-  json flood_discarded = json::object();  // groups the daemon discarded during the flood, by reason
-  if (!s.cangen.empty()) {
-    std::cerr << "bench: wheeltecd under a foreign-traffic flood for " << s.flood_s << " s\n";
-    SubscriberSet one(socket, 1);
-    ChildProgram cangen("cangen", {s.cangen, s.interface, "-g", "0", "-i", "-I", "555", "-L", "8", "-D", "r"}, dir);
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    const auto tx_before = interface_tx_packets(s.interface);
-    const double t0 = now_us();
-    const json stats_before = api_call(socket, "stats");
-    flood = run_at_rate(20.0, s.flood_s, one, chassis, daemon.pid());
-    const json stats_after = api_call(socket, "stats");
-    flood_discarded = json::object();
-    for (const auto& [reason, count] : stats_after["groups_discarded"].items()) {
-      const auto delta = count.get<std::uint64_t>() - stats_before["groups_discarded"].value(reason, std::uint64_t{0});
-      if (delta > 0) flood_discarded[reason] = delta;
-    }
-    flood_fps = static_cast<double>(interface_tx_packets(s.interface) - tx_before) / ((now_us() - t0) / 1e6);
-    cangen.terminate();
-    flood_json = {{"foreign_frames_per_s", flood_fps}, {"records", flood.sent}, {"lost", flood.lost()},
-                  {"cpu_percent", 100.0 * flood.cpu_s() / flood.wall_s}, {"groups_discarded", flood_discarded}};
-  }
+  const json flood_json = measure_flood(s, dir, daemon, chassis);
   out["wheeltecd"]["flood"] = flood_json;
   daemon.process->terminate();
   if (!s.valgrind.empty() && !s.callgrind_control.empty()) {
@@ -672,12 +670,14 @@ int measure(const Settings& s) {
                    loss_location(out["floor"]["bounded_relay_throughput_steps"]));
   t += fmt::format("| daemon CPU per record at that rate, 64 subscribers (us) | {:.1f} | | | | |\n", cpu_us_per_record);
   if (!flood_json.is_null()) {
-    t += fmt::format("| flood: foreign frames/s on the bus | {:.0f} | | | | |\n", flood_fps);
-    t += fmt::format("| flood: telemetry lost at 20 Hz | {} of {} | | | 0 | {} |\n", flood.lost(), flood.sent,
-                     verdict(flood.lost() == 0));
+    t += fmt::format("| flood: foreign frames/s on the bus | {:.0f} | | | | |\n", flood_json["foreign_frames_per_s"].get<double>());
+    const auto lost = flood_json["lost"].get<std::uint64_t>();
+    t += fmt::format("| flood: telemetry lost at 20 Hz | {} of {} | | | 0 | {} |\n", lost,
+                     flood_json["records"].get<std::uint64_t>(), verdict(lost == 0));
+    const json& discarded = flood_json["groups_discarded"];
     t += fmt::format("| flood: groups the daemon discarded, by reason | {} | | | | |\n",
-                     flood_discarded.empty() ? std::string("none") : flood_discarded.dump());
-    const double pct = 100.0 * flood.cpu_s() / flood.wall_s;
+                     discarded.empty() ? std::string("none") : discarded.dump());
+    const double pct = flood_json["cpu_percent"].get<double>();
     t += fmt::format("| flood: daemon CPU (% of a core) | {:.2f} | | | < 1 | {} |\n", pct, verdict(pct < 1.0));
   }
   const double relay_idle_pct = 100.0 * relay_idle.cpu_s() / relay_idle.wall_s;

@@ -65,6 +65,7 @@ ProcessSample sample_process(pid_t pid) {
     if (key == "nonvoluntary_ctxt_switches:") sample.involuntary_switches = value;
     if (key == "VmRSS:") sample.rss_kib = value;
     if (key == "VmHWM:") sample.hwm_kib = value;
+    if (key == "Threads:") sample.threads = value;
   }
   return sample;
 }

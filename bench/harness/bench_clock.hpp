@@ -25,6 +25,7 @@ struct ProcessSample {
   std::uint64_t involuntary_switches = 0;
   std::uint64_t rss_kib = 0;
   std::uint64_t hwm_kib = 0;  // peak RSS
+  std::uint64_t threads = 0;
 };
 
 // Throws std::runtime_error when the process is gone.

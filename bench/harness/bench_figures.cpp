@@ -105,6 +105,21 @@ void latency_row(const std::string& label, const nlohmann::json& summary, const 
 
 std::string lost_of(const TelemetryMatch& match) { return fmt::format("{} of {}", match.lost(), match.on_bus); }
 
+nlohmann::json counters_delta(const nlohmann::json& before, const nlohmann::json& after) {
+  nlohmann::json delta = nlohmann::json::object();
+  for (const auto& [key, value] : after.items()) {
+    if (value.is_number_unsigned() && before.contains(key)) delta[key] = value.get<std::uint64_t>() - before[key].get<std::uint64_t>();
+    if (!value.is_object()) continue;
+    delta[key] = nlohmann::json::object();
+    const nlohmann::json earlier = before.value(key, nlohmann::json::object());
+    for (const auto& [reason, count] : value.items()) {
+      const auto changed = count.get<std::uint64_t>() - earlier.value(reason, std::uint64_t{0});
+      if (changed > 0) delta[key][reason] = changed;
+    }
+  }
+  return delta;
+}
+
 std::string us(double value) { return fmt::format("{:.0f}", value); }
 std::string mib(const nlohmann::json& j, const char* key) { return fmt::format("{:.2f}", j.value(key, 0.0) / 1024.0); }
 

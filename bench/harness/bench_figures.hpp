@@ -52,6 +52,9 @@ std::string p50_p99(const nlohmann::json& summary);
 // A row of a latency table, "| label | p50 / p99 | n | lost |", on stdout; and a match's "LOST of ON_BUS".
 void latency_row(const std::string& label, const nlohmann::json& summary, const std::string& lost);
 std::string lost_of(const TelemetryMatch& match);
+// Counters between two samples (a gateway's `stats`, /proc): the difference of each unsigned
+// number in both, and of each object of counts by reason, those that changed.
+nlohmann::json counters_delta(const nlohmann::json& before, const nlohmann::json& after);
 // A figure in whole microseconds; kibibytes of `key` in MiB with 2 decimals.
 std::string us(double value);
 std::string mib(const nlohmann::json& j, const char* key);

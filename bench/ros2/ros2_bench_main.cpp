@@ -88,18 +88,10 @@ Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) 
 
 // ---- /proc ----
 
-int threads_of(pid_t pid) {
-  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-  for (std::string line; std::getline(status, line);) {
-    if (line.rfind("Threads:", 0) == 0) return std::stoi(line.substr(8));
-  }
-  return 0;
-}
-
 json memory_json(pid_t pid) {
   try {
     const ProcessSample sample = sample_process(pid);
-    return {{"rss_kib", sample.rss_kib}, {"hwm_kib", sample.hwm_kib}, {"threads", threads_of(pid)}};
+    return {{"rss_kib", sample.rss_kib}, {"hwm_kib", sample.hwm_kib}, {"threads", sample.threads}};
   } catch (const std::exception&) {
     return {{"rss_kib", 0}, {"hwm_kib", 0}, {"threads", 0}};
   }
@@ -170,14 +162,6 @@ json daemon_counters(const fs::path& socket) {
   } catch (const std::exception& error) {
     return {{"error", error.what()}};
   }
-}
-
-json counters_delta(const json& before, const json& after) {
-  json delta = json::object();
-  for (const auto& [key, value] : after.items()) {
-    if (value.is_number_unsigned() && before.contains(key)) delta[key] = value.get<std::uint64_t>() - before[key].get<std::uint64_t>();
-  }
-  return delta;
 }
 
 // The lines of a program's log at level warn or above (the first `most`).
