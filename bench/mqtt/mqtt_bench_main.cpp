@@ -86,7 +86,7 @@ Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) 
   command_line.value("--mosquitto", s.programs.mosquitto);
   command_line.value("--paho-bridge", s.programs.paho_bridge);
   command_line.value("--python", s.programs.python);
-  command_line.value("--robots", s.robots)->delimiter(',')->check(CLI::PositiveNumber);
+  command_line.value("--robots", s.robots)->delimiter(',');
   command_line.value("--step-seconds", s.step_s);
   command_line.value("--broker-config", s.broker_config)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   command_line.value("--loss-rounds", s.loss_rounds);
@@ -94,6 +94,9 @@ Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) 
   command_line.flag("--operator-nodelay", s.operator_nodelay);
   command_line.flag("--serial", s.serial);
   command_line.parse(argc, argv);
+  if (std::any_of(s.robots.begin(), s.robots.end(), [](int n) { return n < 1; })) {
+    throw std::invalid_argument("--robots: counts must be at least 1");
+  }
   finish_bridge_options(command_line, s, {.telemetry_s = 3.0, .drives = 40, .drive_block = 20});
   if (s.quick) {
     if (!command_line.given("--robots")) s.robots = {1, 2};
