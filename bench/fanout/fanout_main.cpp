@@ -96,12 +96,6 @@ Settings parse_arguments(bench::BenchCommandLine& command_line, int argc, char**
   return s;
 }
 
-double thread_cpu_s(clockid_t clock) {
-  timespec t{};
-  ::clock_gettime(clock, &t);
-  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
-}
-
 GatewayConfig config_for(const fs::path& socket) {
   GatewayConfig config;
   config.api.socket = socket.string();
@@ -156,7 +150,7 @@ class DaemonPath final : public GatewayUnderTest {
     thread_.join();
   }
 
-  double cpu_s() override { return thread_cpu_s(cpu_clock_); }
+  double cpu_s() override { return bench::thread_cpu_s(cpu_clock_); }
 
   std::uint64_t notifications_replaced() override {
     std::promise<std::uint64_t> count;
@@ -286,7 +280,7 @@ Step run_step(double rate_hz, double step_s, GatewayUnderTest& gateway, int send
   const auto total = static_cast<std::uint64_t>(std::llround(rate_hz * step_s));
   const std::uint64_t replaced_before = gateway.notifications_replaced();
   const double gateway_before = gateway.cpu_s();
-  const double subscribers_before = thread_cpu_s(CLOCK_THREAD_CPUTIME_ID);
+  const double subscribers_before = bench::thread_cpu_s(CLOCK_THREAD_CPUTIME_ID);
   std::vector<std::size_t> lines(set.size(), 0);
   const int first_seq = next_seq;
   next_seq += static_cast<int>(total);
@@ -298,7 +292,7 @@ Step run_step(double rate_hz, double step_s, GatewayUnderTest& gateway, int send
   step.expected = sent.sent * set.size();
   step.received = set.read_rest(lines, step.expected);
   step.gateway_cpu_s = gateway.cpu_s() - gateway_before;
-  step.subscribers_cpu_s = thread_cpu_s(CLOCK_THREAD_CPUTIME_ID) - subscribers_before;
+  step.subscribers_cpu_s = bench::thread_cpu_s(CLOCK_THREAD_CPUTIME_ID) - subscribers_before;
   step.replaced = gateway.notifications_replaced() - replaced_before;
   return step;
 }

@@ -24,6 +24,12 @@ std::int64_t realtime_ns() {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
+double thread_cpu_s(clockid_t clock) {
+  timespec t{};
+  ::clock_gettime(clock, &t);
+  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
+}
+
 int periodic_timer(double rate_hz, long min_interval_ns, int flags) {
   const int timer = ::timerfd_create(CLOCK_MONOTONIC, flags);
   const long interval_ns = std::max(min_interval_ns, static_cast<long>(1e9 / rate_hz));

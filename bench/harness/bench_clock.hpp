@@ -1,6 +1,7 @@
 #pragma once
 
 #include <sys/types.h>
+#include <time.h>
 
 #include <cstdint>
 
@@ -12,6 +13,9 @@ double now_us();
 // CLOCK_REALTIME in nanoseconds: the clock of the kernel's CAN receive timestamps
 // (SO_TIMESTAMPNS) and of the telemetry records' `time`.
 std::int64_t realtime_ns();
+
+// A CPU-time clock (a thread's, from pthread_getcpuclockid, or CLOCK_THREAD_CPUTIME_ID) in seconds.
+double thread_cpu_s(clockid_t clock);
 
 // A timerfd (CLOCK_MONOTONIC, `flags` of timerfd_create) expiring `rate_hz` times a second, at
 // most once every `min_interval_ns`, armed.

@@ -16,7 +16,7 @@
 // Prints markdown tables on stdout and writes every figure as JSON (--json).
 //
 // --serial: one robot whose chassis is a serial line, natively (no vcan, no User-Mode Linux):
-// the benchmark plays the controller on a pseudo-terminal (bench/e2e's PtyEndpoint, records at
+// the benchmark plays the controller on a pseudo-terminal (the harness' PtyEndpoint, records at
 // 20 Hz) in place of the emulator, and times the command frames when it reads them. The drives
 // (1, with the paho bridge and the broker's hop) and the broker loss run; 2-4 need the bus.
 
