@@ -10,12 +10,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <numeric>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -25,16 +24,17 @@
 #include <nlohmann/json.hpp>
 
 #include "wheeltec/control_frame.hpp"
-#include "wheeltec/telemetry_group.hpp"
-#include "wheeltec/telemetry_record.hpp"
 
 #include "bench_clock.hpp"
+#include "bench_command_line.hpp"
+#include "bench_figures.hpp"
 #include "can_endpoint.hpp"
 #include "child_program.hpp"
 #include "gateway_latency.hpp"
 #include "latency_stats.hpp"
 #include "process_profile.hpp"
 #include "subscriber_set.hpp"
+#include "work_dir.hpp"
 
 namespace {
 
@@ -62,43 +62,29 @@ struct Settings {
   bool commands_only = false;    // likewise: the command latency only (e.g. under strace)
 };
 
-Settings parse_arguments(int argc, char** argv) {
+constexpr const char* kUsage =
+    "usage: wheeltec-bench-e2e --wheeltecd PATH --floor PATH [--cangen PATH] [--interface vcan0]\n"
+    "       [--json OUT] [--commands N] [--idle-seconds S] [--flood-seconds S]\n"
+    "       [--strace PATH] [--valgrind PATH --callgrind-control PATH]\n"
+    "       [--idle-only | --throughput-only | --commands-only]\n";
+
+Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) {
   Settings s;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (key == "--idle-only" || key == "--throughput-only" || key == "--commands-only") {
-      (key == "--idle-only" ? s.idle_only : key == "--throughput-only" ? s.throughput_only : s.commands_only) = true;
-      continue;
-    }
-    if (key == "--help") {
-      std::cout << "usage: wheeltec-bench-e2e --wheeltecd PATH --floor PATH [--cangen PATH] [--interface vcan0]\n"
-                   "       [--json OUT] [--commands N] [--idle-seconds S] [--flood-seconds S]\n"
-                   "       [--strace PATH] [--valgrind PATH --callgrind-control PATH]\n"
-                   "       [--idle-only | --throughput-only | --commands-only]\n";
-      std::exit(0);
-    }
-    if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
-    const std::string value = argv[++i];
-    if (key == "--wheeltecd") s.wheeltecd = value;
-    else if (key == "--floor") s.floor = value;
-    else if (key == "--cangen") s.cangen = value;
-    else if (key == "--strace") s.strace = value;
-    else if (key == "--valgrind") s.valgrind = value;
-    else if (key == "--callgrind-control") s.callgrind_control = value;
-    else if (key == "--interface") s.interface = value;
-    else if (key == "--json") s.json_path = value;
-    else if (key == "--commands") s.commands = std::stoi(value);
-    else if (key == "--idle-seconds") s.idle_s = std::stod(value);
-    else if (key == "--flood-seconds") s.flood_s = std::stod(value);
-    else throw std::invalid_argument("unknown option " + key);
+  for (const auto& [flag, into] : {std::pair{"--wheeltecd", &s.wheeltecd}, {"--floor", &s.floor}, {"--cangen", &s.cangen},
+                                   {"--strace", &s.strace}, {"--valgrind", &s.valgrind},
+                                   {"--callgrind-control", &s.callgrind_control}, {"--interface", &s.interface},
+                                   {"--json", &s.json_path}}) {
+    command_line.value(flag, *into);
   }
+  command_line.value("--commands", s.commands);
+  command_line.value("--idle-seconds", s.idle_s);
+  command_line.value("--flood-seconds", s.flood_s);
+  command_line.flag("--idle-only", s.idle_only);
+  command_line.flag("--throughput-only", s.throughput_only);
+  command_line.flag("--commands-only", s.commands_only);
+  command_line.parse(argc, argv);
   if (s.wheeltecd.empty() || s.floor.empty()) throw std::invalid_argument("--wheeltecd and --floor are required");
   return s;
-}
-
-// The frames of one valid telemetry record; `n` varies the velocity so records differ.
-wheeltec::TelemetryGroup telemetry_group(int n) {
-  return wheeltec::make_telemetry_group(wheeltec::encode_record(bench_record(n)));
 }
 
 void send_group(CanEndpoint& chassis, const wheeltec::TelemetryGroup& group) {
@@ -161,7 +147,7 @@ LatencySummary bus_floor(const std::string& interface, int count) {
 // 0x101 and 0x102 sent, clock started, 0x103 sent.
 TelemetryLatency telemetry_latency(const fs::path& socket, CanEndpoint& chassis, std::size_t subscribers, int records) {
   return bench::telemetry_latency(socket, subscribers, records, [&](int n) {
-    const auto group = telemetry_group(n);
+    const auto group = bench_group(n);
     chassis.send(group.frames[0]);
     chassis.send(group.frames[1]);
     const double start = now_us();
@@ -192,19 +178,13 @@ struct RateRun {
 };
 
 RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEndpoint& chassis, pid_t daemon) {
-  const int timer = ::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
-  const long interval_ns = std::max(1'000'000L, static_cast<long>(1e9 / rate_hz));
-  itimerspec spec{};
-  spec.it_interval.tv_sec = interval_ns / 1'000'000'000L;
-  spec.it_interval.tv_nsec = interval_ns % 1'000'000'000L;
-  spec.it_value = spec.it_interval;
   std::vector<std::size_t> lines(set.size(), 0);
   RateRun run;
   run.rate_hz = rate_hz;
   run.before = sample_process(daemon);
   run.subscribers_before = sample_process(::getpid());
   const double start = now_us();
-  ::timerfd_settime(timer, 0, &spec, nullptr);
+  const int timer = periodic_timer(rate_hz, 1'000'000L, TFD_CLOEXEC | TFD_NONBLOCK);
   const auto total = static_cast<std::uint64_t>(std::llround(rate_hz * duration_s));
   const double give_up = start + (duration_s * 2 + 5) * 1e6;  // an overloaded machine must not hang the run
   while (run.sent < total && now_us() < give_up) {
@@ -213,32 +193,18 @@ RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEn
       if (::read(timer, &expirations, sizeof(expirations)) < 0) expirations = 0;
       const auto due = std::min<std::uint64_t>(
           total, static_cast<std::uint64_t>((now_us() - start) / 1e6 * rate_hz) + 1);
-      while (run.sent < due) send_group(chassis, telemetry_group(static_cast<int>(run.sent++)));
+      while (run.sent < due) send_group(chassis, bench_group(static_cast<int>(run.sent++)));
       run.send_s = (now_us() - start) / 1e6;
     }
   }
   run.expected_lines = run.sent * set.size();
-  // Let the last notifications arrive: stop when complete or nothing came for 300 ms.
-  double last_progress = now_us();
-  auto received = [&] { return std::accumulate(lines.begin(), lines.end(), std::uint64_t{0}); };
-  while (received() < run.expected_lines && now_us() - last_progress < 300e3) {
-    const auto before = received();
-    set.poll(50, lines);
-    if (received() != before) last_progress = now_us();
-  }
+  run.received_lines = set.read_rest(lines, run.expected_lines);
   run.wall_s = (now_us() - start) / 1e6;
   run.after = sample_process(daemon);
   run.subscribers_after = sample_process(::getpid());
-  run.received_lines = received();
   ::close(timer);
   set.forget_extra();
   return run;
-}
-
-json stats_of(const fs::path& socket) {
-  LineClient client(socket);
-  client.send_line(R"({"jsonrpc":"2.0","id":1,"method":"stats"})");
-  return json::parse(client.read_line(2000)).at("result");
 }
 
 // The same while the subscribers keep being read (what they receive here is late and not
@@ -273,16 +239,7 @@ RateRun throughput(const fs::path& socket, CanEndpoint& chassis, pid_t gateway, 
                  {"achieved_rate_hz", run.achieved_rate_hz()}, {"reached_rate", run.reached_rate()},
                  {"cpu_us_per_record", run.sent ? 1e6 * run.cpu_s() / static_cast<double>(run.sent) : 0.0}};
     const json stats_after = stats_while_draining(socket, set);
-    json& stats = step["gateway_stats"] = json::object();
-    for (const auto& [key, value] : stats_after.items()) {
-      if (value.is_number_unsigned()) stats[key] = value.get<std::uint64_t>() - stats_before.value(key, std::uint64_t{0});
-      if (!value.is_object()) continue;
-      stats[key] = json::object();  // counts by reason: those that changed
-      for (const auto& [reason, count] : value.items()) {
-        const auto delta = count.get<std::uint64_t>() - stats_before[key].value(reason, std::uint64_t{0});
-        if (delta > 0) stats[key][reason] = delta;
-      }
-    }
+    step["gateway_stats"] = counters_delta(stats_before, stats_after);
     std::cerr << "  " << step.dump() << "\n";
     steps.push_back(step);
     if (run.lost() > 0 || !run.reached_rate()) break;
@@ -384,110 +341,124 @@ std::uint64_t interface_tx_packets(const std::string& interface) {
 }
 
 
-std::string config_for(const Settings& s, const fs::path& socket) {
+// A gateway under measurement, wheeltecd or a relay floor, and the socket it serves.
+struct Gateway {
+  fs::path socket;
+  std::unique_ptr<ChildProgram> process;
+  pid_t pid() const { return process->pid(); }
+};
+
+std::vector<std::string> relay_argv(const Settings& s, const fs::path& socket, const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> argv{s.floor, "--interface", s.interface, "--socket", socket.string()};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  return argv;
+}
+
+// The relay floor, its socket and log named `name`, once its socket accepts connections.
+Gateway start_relay(const Settings& s, const fs::path& dir, const std::string& name,
+                    const std::vector<std::string>& extra = {}) {
+  const fs::path socket = dir / (name + ".sock");
+  auto relay = std::make_unique<ChildProgram>(name, relay_argv(s, socket, extra), dir);
+  relay->wait_for_socket(socket);
+  return {socket, std::move(relay)};
+}
+
+// wheeltecd with a configuration file of its own (never the host's).
+std::vector<std::string> daemon_argv(const Settings& s, const fs::path& dir) {
+  const fs::path socket = dir / "wheeltecd.sock";
   const json config = {
       {"can", {{"interface", s.interface}, {"dialect", "manual"}}},
       {"control", {{"rate_hz", 20}, {"command_timeout_s", 10.0}}},
       {"api", {{"socket", socket.string()}, {"max_clients", 128}}},
       {"log", {{"level", "warn"}}},
   };
-  return config.dump(2);
+  std::ofstream(dir / "wheeltecd.json") << config.dump(2) << "\n";
+  return {s.wheeltecd, "--config", (dir / "wheeltecd.json").string()};
 }
 
-std::string us(double v) { return fmt::format("{:.0f}", v); }
+Gateway start_daemon(const Settings& s, const fs::path& dir, int timeout_s = 5) {
+  auto daemon = std::make_unique<ChildProgram>("wheeltecd", daemon_argv(s, dir), dir);
+  daemon->wait_for_socket(dir / "wheeltecd.sock", timeout_s);
+  return {dir / "wheeltecd.sock", std::move(daemon)};
+}
+
 std::string verdict(bool met) { return met ? "met" : "**missed**"; }
 
-}  // namespace
-
-int main(int argc, char** argv) try {
-  const Settings s = parse_arguments(argc, argv);
-  const fs::path dir = fs::temp_directory_path() / fmt::format("wheeltec-bench-{}", ::getpid());
-  fs::create_directories(dir);
-  json out;
-  out["interface"] = s.interface;
-
-  if (s.idle_only || s.throughput_only || s.commands_only) {
-    const fs::path socket = dir / "wheeltecd.sock";
-    const fs::path config = dir / "wheeltecd.json";
-    std::ofstream(config) << config_for(s, socket) << "\n";
-    ChildProgram daemon("wheeltecd", {s.wheeltecd, "--config", config.string()}, dir);
-    daemon.wait_for_socket(socket, 120);  // under a profiler start-up is slow
-    CanEndpoint chassis(s.interface, {});
-    if (s.commands_only) {
-      const fs::path relay_socket = dir / "floor.sock";
-      ChildProgram relay("floor", {s.floor, "--interface", s.interface, "--socket", relay_socket.string()}, dir);
-      relay.wait_for_socket(relay_socket);
-      CanEndpoint observer(s.interface, {wheeltec::kManualControlId});
-      const InterleavedCommands commands = interleaved_command_latency(socket, relay_socket, observer, s.commands);
-      std::cout << "wheeltecd: " << commands.daemon.to_json().dump() << "\nrelay:     " << commands.relay.to_json().dump()
-                << "\n";
-      relay.terminate();
-    } else if (s.throughput_only) {
-      // The daemon, then the relay floor under the same slow-client rule, one line per step.
-      json steps = json::array();
-      throughput(socket, chassis, daemon.pid(), s.throughput_step_s, steps, nullptr);
-      daemon.terminate();
-      const fs::path relay_socket = dir / "floor-bounded.sock";
-      ChildProgram relay("floor-bounded",
-                         {s.floor, "--interface", s.interface, "--socket", relay_socket.string(), "--bounded-backlog"}, dir);
-      relay.wait_for_socket(relay_socket);
-      json relay_steps = json::array();
-      throughput(relay_socket, chassis, relay.pid(), s.throughput_step_s, relay_steps, nullptr);
-      relay.terminate();
-      for (const auto& [name, list] : {std::pair{"wheeltecd", &steps}, std::pair{"bounded relay", &relay_steps}}) {
-        for (const json& step : *list) {
-          std::cout << fmt::format("{:>13} {:>5.0f}/s (sent at {:>5.0f}/s): lost {:>6} of {:>6}, gateway {:>4.0f} us/record, subscribers {:>4.0f} us/record, wall {:.2f} s\n",
-                                   name, step["rate_hz"].get<double>(), step["achieved_rate_hz"].get<double>(),
-                                   step["notifications_expected"].get<std::uint64_t>() - step["notifications_received"].get<std::uint64_t>(),
-                                   step["notifications_expected"].get<std::uint64_t>(), step["cpu_us_per_record"].get<double>(),
-                                   1e6 * step["subscribers_cpu_s"].get<double>() / std::max<double>(1, step["records"].get<double>()),
-                                   step["wall_s"].get<double>());
-        }
+// --idle-only, --throughput-only or --commands-only: one part, for profiling the daemon.
+int measure_one_part(const Settings& s, const fs::path& dir) {
+  Gateway daemon = start_daemon(s, dir, 120);  // under a profiler start-up is slow
+  CanEndpoint chassis(s.interface, {});
+  if (s.commands_only) {
+    const Gateway relay = start_relay(s, dir, "floor");
+    CanEndpoint observer(s.interface, {wheeltec::kManualControlId});
+    const InterleavedCommands commands = interleaved_command_latency(daemon.socket, relay.socket, observer, s.commands);
+    std::cout << "wheeltecd: " << commands.daemon.to_json().dump() << "\nrelay:     " << commands.relay.to_json().dump()
+              << "\n";
+  } else if (s.throughput_only) {
+    // The daemon, then the relay floor under the same slow-client rule, one line per step.
+    json steps = json::array();
+    throughput(daemon.socket, chassis, daemon.pid(), s.throughput_step_s, steps, nullptr);
+    daemon.process->terminate();
+    const Gateway relay = start_relay(s, dir, "floor-bounded", {"--bounded-backlog"});
+    json relay_steps = json::array();
+    throughput(relay.socket, chassis, relay.pid(), s.throughput_step_s, relay_steps, nullptr);
+    relay.process->terminate();
+    for (const auto& [name, list] : {std::pair{"wheeltecd", &steps}, std::pair{"bounded relay", &relay_steps}}) {
+      for (const json& step : *list) {
+        std::cout << fmt::format("{:>13} {:>5.0f}/s (sent at {:>5.0f}/s): lost {:>6} of {:>6}, gateway {:>4.0f} us/record, subscribers {:>4.0f} us/record, wall {:.2f} s\n",
+                                 name, step["rate_hz"].get<double>(), step["achieved_rate_hz"].get<double>(),
+                                 step["notifications_expected"].get<std::uint64_t>() - step["notifications_received"].get<std::uint64_t>(),
+                                 step["notifications_expected"].get<std::uint64_t>(), step["cpu_us_per_record"].get<double>(),
+                                 1e6 * step["subscribers_cpu_s"].get<double>() / std::max<double>(1, step["records"].get<double>()),
+                                 step["wall_s"].get<double>());
       }
-      if (!s.json_path.empty()) std::ofstream(s.json_path) << json{{"wheeltecd", steps}, {"bounded_relay", relay_steps}}.dump(2) << "\n";
-      fs::remove_all(dir);
-      return 0;
-    } else {
-      SubscriberSet one(socket, 1);
-      const RateRun idle = run_at_rate(20.0, s.idle_s, one, chassis, daemon.pid());
-      std::cout << fmt::format("idle: {} records, {} lost, {:.3f} s CPU in {:.1f} s, {} voluntary switches\n", idle.sent,
-                               idle.lost(), idle.cpu_s(), idle.wall_s,
-                               idle.after.voluntary_switches - idle.before.voluntary_switches);
     }
-    daemon.terminate();
-    fs::remove_all(dir);
-    return 0;
+    if (!s.json_path.empty()) std::ofstream(s.json_path) << json{{"wheeltecd", steps}, {"bounded_relay", relay_steps}}.dump(2) << "\n";
+  } else {
+    SubscriberSet one(daemon.socket, 1);
+    const RateRun idle = run_at_rate(20.0, s.idle_s, one, chassis, daemon.pid());
+    std::cout << fmt::format("idle: {} records, {} lost, {:.3f} s CPU in {:.1f} s, {} voluntary switches\n", idle.sent,
+                             idle.lost(), idle.cpu_s(), idle.wall_s,
+                             idle.after.voluntary_switches - idle.before.voluntary_switches);
   }
+  return 0;
+}
 
+// The floors the daemon's figures are set beside: the bus, the relay, the relay with the
+// daemon's slow-client rule and, under callgrind, the relay and the spec floor at idle.
+struct Floors {
+  LatencySummary bus;
+  TelemetryLatency telemetry_1, telemetry_64;
+  RateRun idle;
+};
+
+Floors measure_floors(const Settings& s, const fs::path& dir, json& out) {
+  Floors floors;
   // ---- floors ----
   std::cerr << "bench: bus floor\n";
-  const LatencySummary bus = bus_floor(s.interface, s.commands);
-  out["floor"]["bus_latency"] = bus.to_json();
+  floors.bus = bus_floor(s.interface, s.commands);
+  out["floor"]["bus_latency"] = floors.bus.to_json();
 
+  CanEndpoint chassis(s.interface, {});
   std::cerr << "bench: relay floor\n";
-  TelemetryLatency relay_tel1, relay_tel64;
-  RateRun relay_idle;
   {
-    const fs::path socket = dir / "floor.sock";
-    ChildProgram relay("floor", {s.floor, "--interface", s.interface, "--socket", socket.string()}, dir);
-    relay.wait_for_socket(socket);
-    CanEndpoint chassis(s.interface, {});
-    relay_tel1 = telemetry_latency(socket, chassis, 1, s.records_1);
-    relay_tel64 = telemetry_latency(socket, chassis, 64, s.records_64);
+    const Gateway relay = start_relay(s, dir, "floor");
+    floors.telemetry_1 = telemetry_latency(relay.socket, chassis, 1, s.records_1);
+    floors.telemetry_64 = telemetry_latency(relay.socket, chassis, 64, s.records_64);
     std::cerr << "bench: relay floor idle, 1 subscriber at 20 Hz for " << s.idle_s << " s\n";
     {
-      SubscriberSet one(socket, 1);
-      relay_idle = run_at_rate(20.0, s.idle_s, one, chassis, relay.pid());
+      SubscriberSet one(relay.socket, 1);
+      floors.idle = run_at_rate(20.0, s.idle_s, one, chassis, relay.pid());
     }
     if (!s.strace.empty()) {
       std::cerr << "bench: relay floor idle under strace -c\n";
       optional_count("relay floor idle system calls", [&] {
-        out["floor"]["relay_idle_counted"] = idle_syscalls(s, socket, chassis, relay.pid(), dir, "relay").to_json();
+        out["floor"]["relay_idle_counted"] = idle_syscalls(s, relay.socket, chassis, relay.pid(), dir, "relay").to_json();
       });
     }
     std::cerr << "bench: relay floor throughput to 64 subscribers\n";
     json steps = json::array();
-    const RateRun best = throughput(socket, chassis, relay.pid(), s.throughput_step_s, steps, nullptr);
+    const RateRun best = throughput(relay.socket, chassis, relay.pid(), s.throughput_step_s, steps, nullptr);
     out["floor"]["relay_throughput_steps"] = steps;
     out["floor"]["relay_throughput"] = {{"max_no_loss_rate_hz", best.rate_hz},
                                         {"cpu_us_per_record", best.sent ? 1e6 * best.cpu_s() / static_cast<double>(best.sent) : 0.0}};
@@ -496,23 +467,17 @@ int main(int argc, char** argv) try {
     // The relay with the daemon's slow-client rule: where subscribers fall behind, it drops
     // as the daemon does instead of waiting for them.
     std::cerr << "bench: relay floor with a bounded backlog, throughput to 64 subscribers\n";
-    const fs::path socket = dir / "floor-bounded.sock";
-    ChildProgram relay("floor-bounded", {s.floor, "--interface", s.interface, "--socket", socket.string(), "--bounded-backlog"},
-                       dir);
-    relay.wait_for_socket(socket);
-    CanEndpoint chassis(s.interface, {});
+    const Gateway relay = start_relay(s, dir, "floor-bounded", {"--bounded-backlog"});
     json steps = json::array();
-    const RateRun best = throughput(socket, chassis, relay.pid(), s.throughput_step_s, steps, nullptr);
+    const RateRun best = throughput(relay.socket, chassis, relay.pid(), s.throughput_step_s, steps, nullptr);
     out["floor"]["bounded_relay_throughput_steps"] = steps;
     out["floor"]["bounded_relay_throughput"] = {{"max_no_loss_rate_hz", best.rate_hz}};
   }
   if (!s.valgrind.empty() && !s.callgrind_control.empty()) {
     std::cerr << "bench: relay floor idle under callgrind\n";
     const fs::path socket = dir / "floor-callgrind.sock";
-    CanEndpoint chassis(s.interface, {});
     optional_count("relay floor idle instructions", [&] {
-      out["floor"]["relay_idle_instructions"] = idle_instructions(
-          s, {s.floor, "--interface", s.interface, "--socket", socket.string()}, socket, chassis, dir, "relay");
+      out["floor"]["relay_idle_instructions"] = idle_instructions(s, relay_argv(s, socket), socket, chassis, dir, "relay");
     });
     // The spec floor: the relay plus the spec's own work for each record and control period
     // (the notification, decoding, odometry, attitude, a control frame every 50 ms) with
@@ -521,28 +486,94 @@ int main(int argc, char** argv) try {
     const fs::path spec_socket = dir / "spec-floor-callgrind.sock";
     optional_count("spec floor idle instructions", [&] {
       out["floor"]["spec_floor_idle_instructions"] =
-          idle_instructions(s, {s.floor, "--interface", s.interface, "--socket", spec_socket.string(), "--spec-work"},
-                            spec_socket, chassis, dir, "spec-floor");
+          idle_instructions(s, relay_argv(s, spec_socket, {"--spec-work"}), spec_socket, chassis, dir, "spec-floor");
     });
   }
-  out["floor"]["relay_idle"] = {{"seconds", relay_idle.wall_s}, {"cpu_percent", 100.0 * relay_idle.cpu_s() / relay_idle.wall_s},
+  out["floor"]["relay_idle"] = {{"seconds", floors.idle.wall_s}, {"cpu_percent", 100.0 * floors.idle.cpu_s() / floors.idle.wall_s},
                                 {"voluntary_switches_per_s",
-                                 static_cast<double>(relay_idle.after.voluntary_switches - relay_idle.before.voluntary_switches) /
-                                     relay_idle.wall_s}};
-  out["floor"]["relay_telemetry_latency_1"] = relay_tel1.all.to_json();
-  out["floor"]["relay_telemetry_latency_64"] = relay_tel64.all.to_json();
+                                 static_cast<double>(floors.idle.after.voluntary_switches - floors.idle.before.voluntary_switches) /
+                                     floors.idle.wall_s}};
+  out["floor"]["relay_telemetry_latency_1"] = floors.telemetry_1.all.to_json();
+  out["floor"]["relay_telemetry_latency_64"] = floors.telemetry_64.all.to_json();
+  return floors;
+}
+
+// The daemon's command latency in turns with the relay floor's; with --strace, their system
+// calls per drive in a second pass.
+InterleavedCommands measure_commands(const Settings& s, const fs::path& dir, const Gateway& daemon, CanEndpoint& observer,
+                                     json& out) {
+  std::cerr << "bench: wheeltecd command latency, in turns with the relay floor\n";
+  InterleavedCommands commands;
+  {
+    const fs::path& socket = daemon.socket;
+    const Gateway relay = start_relay(s, dir, "floor");
+    const fs::path& relay_socket = relay.socket;
+    while (observer.receive(0)) {
+    }
+    commands = interleaved_command_latency(socket, relay_socket, observer, s.commands);
+    if (!s.strace.empty()) {
+      // Counted in a second pass: strace slows every call, which would distort the latencies above.
+      std::cerr << "bench: wheeltecd and relay floor commands under strace -c\n";
+      optional_count("system calls per drive", [&] {
+        SyscallCount daemon_count(s.strace, daemon.pid(), dir, "wheeltecd-commands");
+        SyscallCount relay_count(s.strace, relay.pid(), dir, "relay-commands");
+        const double start = now_us();
+        interleaved_command_latency(socket, relay_socket, observer, s.commands);
+        const double seconds = (now_us() - start) / 1e6;
+        const auto per_drive = [&](const std::map<std::string, std::uint64_t>& calls) {
+          return json{{"drives", s.commands}, {"seconds", seconds}, {"syscalls", calls},
+                      {"syscalls_per_drive", static_cast<double>(calls.at("total")) / s.commands}};
+        };
+        out["wheeltecd"]["command_syscalls"] = per_drive(daemon_count.stop());
+        out["floor"]["relay_command_syscalls"] = per_drive(relay_count.stop());
+      });
+    }
+  }
+  out["wheeltecd"]["command_latency"] = commands.daemon.to_json();
+  out["floor"]["relay_command_latency"] = commands.relay.to_json();
+  return commands;
+}
+
+// The daemon with 1 subscriber at 20 Hz while cangen floods the bus with foreign frames (null
+// without --cangen).
+json measure_flood(const Settings& s, const fs::path& dir, const Gateway& daemon, CanEndpoint& chassis) {
+  if (s.cangen.empty()) return nullptr;
+  std::cerr << "bench: wheeltecd under a foreign-traffic flood for " << s.flood_s << " s\n";
+  SubscriberSet one(daemon.socket, 1);
+  ChildProgram cangen("cangen", {s.cangen, s.interface, "-g", "0", "-i", "-I", "555", "-L", "8", "-D", "r"}, dir);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const auto tx_before = interface_tx_packets(s.interface);
+  const double t0 = now_us();
+  const json stats_before = api_call(daemon.socket, "stats");
+  const RateRun flood = run_at_rate(20.0, s.flood_s, one, chassis, daemon.pid());
+  const json stats_after = api_call(daemon.socket, "stats");
+  // Groups the daemon discarded during the flood, by reason.
+  const json discarded = counters_delta(stats_before, stats_after).value("groups_discarded", json::object());
+  const double fps = static_cast<double>(interface_tx_packets(s.interface) - tx_before) / ((now_us() - t0) / 1e6);
+  cangen.terminate();
+  return {{"foreign_frames_per_s", fps}, {"records", flood.sent}, {"lost", flood.lost()},
+          {"cpu_percent", 100.0 * flood.cpu_s() / flood.wall_s}, {"groups_discarded", discarded}};
+}
+
+int measure(const Settings& s) {
+  const WorkDir work("wheeltec-bench");
+  const fs::path& dir = work.path();
+  if (s.idle_only || s.throughput_only || s.commands_only) return measure_one_part(s, dir);
+  json out;
+  out["interface"] = s.interface;
+  const Floors floors = measure_floors(s, dir, out);
+  const LatencySummary& bus = floors.bus;
+  const TelemetryLatency &relay_tel1 = floors.telemetry_1, &relay_tel64 = floors.telemetry_64;
+  const RateRun& relay_idle = floors.idle;
 
   // ---- wheeltecd ----
-  const fs::path socket = dir / "wheeltecd.sock";
-  const fs::path config = dir / "wheeltecd.json";
-  std::ofstream(config) << config_for(s, socket) << "\n";
-  ChildProgram daemon("wheeltecd", {s.wheeltecd, "--config", config.string()}, dir);
-  daemon.wait_for_socket(socket);
+  Gateway daemon = start_daemon(s, dir);
+  const fs::path& socket = daemon.socket;
   CanEndpoint chassis(s.interface, {});
   CanEndpoint observer(s.interface, {wheeltec::kManualControlId});
 
   std::cerr << "bench: wheeltecd RSS with no client\n";
-  for (int r = 0; r < 40; ++r) send_group(chassis, telemetry_group(r));
+  for (int r = 0; r < 40; ++r) send_group(chassis, bench_group(r));
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   const ProcessSample rss0 = sample_process(daemon.pid());
 
@@ -566,41 +597,13 @@ int main(int argc, char** argv) try {
     });
   }
 
-  std::cerr << "bench: wheeltecd command latency, in turns with the relay floor\n";
-  InterleavedCommands commands;
-  {
-    const fs::path relay_socket = dir / "floor.sock";
-    ChildProgram relay("floor", {s.floor, "--interface", s.interface, "--socket", relay_socket.string()}, dir);
-    relay.wait_for_socket(relay_socket);
-    while (observer.receive(0)) {
-    }
-    commands = interleaved_command_latency(socket, relay_socket, observer, s.commands);
-    if (!s.strace.empty()) {
-      // Counted in a second pass: strace slows every call, which would distort the latencies above.
-      std::cerr << "bench: wheeltecd and relay floor commands under strace -c\n";
-      optional_count("system calls per drive", [&] {
-        SyscallCount daemon_count(s.strace, daemon.pid(), dir, "wheeltecd-commands");
-        SyscallCount relay_count(s.strace, relay.pid(), dir, "relay-commands");
-        const double start = now_us();
-        interleaved_command_latency(socket, relay_socket, observer, s.commands);
-        const double seconds = (now_us() - start) / 1e6;
-        const auto per_drive = [&](const std::map<std::string, std::uint64_t>& calls) {
-          return json{{"drives", s.commands}, {"seconds", seconds}, {"syscalls", calls},
-                      {"syscalls_per_drive", static_cast<double>(calls.at("total")) / s.commands}};
-        };
-        out["wheeltecd"]["command_syscalls"] = per_drive(daemon_count.stop());
-        out["floor"]["relay_command_syscalls"] = per_drive(relay_count.stop());
-      });
-    }
-  }
+  const InterleavedCommands commands = measure_commands(s, dir, daemon, observer, out);
   const LatencySummary command = summarize(commands.daemon.total);
   const LatencySummary relay_command = summarize(commands.relay.total);
   const LatencySummary command_to_frame = summarize(commands.daemon.to_frame);
   const LatencySummary relay_to_frame = summarize(commands.relay.to_frame);
   const LatencySummary command_after_frame = summarize(commands.daemon.after_frame);
   const LatencySummary relay_after_frame = summarize(commands.relay.after_frame);
-  out["wheeltecd"]["command_latency"] = commands.daemon.to_json();
-  out["floor"]["relay_command_latency"] = commands.relay.to_json();
 
   std::cerr << "bench: wheeltecd telemetry latency\n";
   const TelemetryLatency tel1 = telemetry_latency(socket, chassis, 1, s.records_1);
@@ -619,37 +622,14 @@ int main(int argc, char** argv) try {
   out["wheeltecd"]["throughput"] = {{"max_no_loss_rate_hz", best.rate_hz}, {"cpu_us_per_record", cpu_us_per_record}};
   out["wheeltecd"]["rss_kib"] = {{"clients_0", rss0.rss_kib}, {"clients_64", rss64.rss_kib}, {"peak", rss64.hwm_kib}};
 
-  json flood_json = nullptr;
-  RateRun flood;
-  double flood_fps = 0;
-  json flood_discarded = json::object();  // groups the daemon discarded during the flood, by reason
-  if (!s.cangen.empty()) {
-    std::cerr << "bench: wheeltecd under a foreign-traffic flood for " << s.flood_s << " s\n";
-    SubscriberSet one(socket, 1);
-    ChildProgram cangen("cangen", {s.cangen, s.interface, "-g", "0", "-i", "-I", "555", "-L", "8", "-D", "r"}, dir);
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    const auto tx_before = interface_tx_packets(s.interface);
-    const double t0 = now_us();
-    const json stats_before = stats_of(socket);
-    flood = run_at_rate(20.0, s.flood_s, one, chassis, daemon.pid());
-    const json stats_after = stats_of(socket);
-    flood_discarded = json::object();
-    for (const auto& [reason, count] : stats_after["groups_discarded"].items()) {
-      const auto delta = count.get<std::uint64_t>() - stats_before["groups_discarded"].value(reason, std::uint64_t{0});
-      if (delta > 0) flood_discarded[reason] = delta;
-    }
-    flood_fps = static_cast<double>(interface_tx_packets(s.interface) - tx_before) / ((now_us() - t0) / 1e6);
-    cangen.terminate();
-    flood_json = {{"foreign_frames_per_s", flood_fps}, {"records", flood.sent}, {"lost", flood.lost()},
-                  {"cpu_percent", 100.0 * flood.cpu_s() / flood.wall_s}, {"groups_discarded", flood_discarded}};
-  }
+  const json flood_json = measure_flood(s, dir, daemon, chassis);
   out["wheeltecd"]["flood"] = flood_json;
-  daemon.terminate();
+  daemon.process->terminate();
   if (!s.valgrind.empty() && !s.callgrind_control.empty()) {
     std::cerr << "bench: wheeltecd idle under callgrind\n";
     optional_count("wheeltecd idle instructions", [&] {
       out["wheeltecd"]["idle_instructions"] =
-          idle_instructions(s, {s.wheeltecd, "--config", config.string()}, socket, chassis, dir, "wheeltecd");
+          idle_instructions(s, daemon_argv(s, dir), socket, chassis, dir, "wheeltecd");
     });
   }
 
@@ -690,12 +670,14 @@ int main(int argc, char** argv) try {
                    loss_location(out["floor"]["bounded_relay_throughput_steps"]));
   t += fmt::format("| daemon CPU per record at that rate, 64 subscribers (us) | {:.1f} | | | | |\n", cpu_us_per_record);
   if (!flood_json.is_null()) {
-    t += fmt::format("| flood: foreign frames/s on the bus | {:.0f} | | | | |\n", flood_fps);
-    t += fmt::format("| flood: telemetry lost at 20 Hz | {} of {} | | | 0 | {} |\n", flood.lost(), flood.sent,
-                     verdict(flood.lost() == 0));
+    t += fmt::format("| flood: foreign frames/s on the bus | {:.0f} | | | | |\n", flood_json["foreign_frames_per_s"].get<double>());
+    const auto lost = flood_json["lost"].get<std::uint64_t>();
+    t += fmt::format("| flood: telemetry lost at 20 Hz | {} of {} | | | 0 | {} |\n", lost,
+                     flood_json["records"].get<std::uint64_t>(), verdict(lost == 0));
+    const json& discarded = flood_json["groups_discarded"];
     t += fmt::format("| flood: groups the daemon discarded, by reason | {} | | | | |\n",
-                     flood_discarded.empty() ? std::string("none") : flood_discarded.dump());
-    const double pct = 100.0 * flood.cpu_s() / flood.wall_s;
+                     discarded.empty() ? std::string("none") : discarded.dump());
+    const double pct = flood_json["cpu_percent"].get<double>();
     t += fmt::format("| flood: daemon CPU (% of a core) | {:.2f} | | | < 1 | {} |\n", pct, verdict(pct < 1.0));
   }
   const double relay_idle_pct = 100.0 * relay_idle.cpu_s() / relay_idle.wall_s;
@@ -734,12 +716,13 @@ int main(int argc, char** argv) try {
   t += fmt::format("| RSS, 0 clients (MiB) | {:.2f} | | | | |\n", rss0.rss_kib / 1024.0);
   t += fmt::format("| RSS, 64 clients (MiB) | {:.2f} | | | < 8 | {} |\n", rss64.rss_kib / 1024.0,
                    verdict(rss64.rss_kib < 8 * 1024));
-  std::cout << t;
-  out["table_markdown"] = t;
-  if (!s.json_path.empty()) std::ofstream(s.json_path) << out.dump(2) << "\n";
-  fs::remove_all(dir);
+  publish_table(t, out, s.json_path);
   return 0;
-} catch (const std::exception& e) {
-  std::cerr << "wheeltec-bench-e2e: " << e.what() << "\n";
-  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  BenchCommandLine command_line("wheeltec-bench-e2e", kUsage);
+  return run_main(command_line, [&] { return measure(parse_arguments(command_line, argc, argv)); });
 }

@@ -7,15 +7,10 @@
 //    before its last byte, to the `telemetry` notification read by one subscriber;
 // next to the pty's own cost (bytes from one end to the other in one process). Prints a
 // markdown table and writes the figures as JSON; scripts/bench.sh sets them beside vcan's.
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iostream>
-#include <map>
 #include <span>
-#include <stdexcept>
 #include <string>
 
 #include <fmt/format.h>
@@ -24,12 +19,15 @@
 #include "wheeltec/serial_frame.hpp"
 
 #include "bench_clock.hpp"
+#include "bench_command_line.hpp"
+#include "bench_figures.hpp"
 #include "child_program.hpp"
 #include "gateway_latency.hpp"
 #include "pty_endpoint.hpp"
 #include "pty_floor.hpp"
 #include "serial_chassis.hpp"
 #include "subscriber_set.hpp"
+#include "work_dir.hpp"
 
 namespace bench {
 namespace {
@@ -44,36 +42,28 @@ constexpr const char* kUsage =
 struct Options {
   std::string wheeltecd, json_path;
   int commands = 2000, records = 1000;
-
-  Options(int argc, char** argv) {
-    const std::map<std::string, std::function<void(const std::string&)>> valued = {
-        {"--wheeltecd", [this](const std::string& v) { wheeltecd = v; }},
-        {"--json", [this](const std::string& v) { json_path = v; }},
-        {"--commands", [this](const std::string& v) { commands = std::stoi(v); }},
-        {"--records", [this](const std::string& v) { records = std::stoi(v); }},
-    };
-    for (int i = 1; i < argc; ++i) {
-      const std::string key = argv[i];
-      if (key == "--help") {
-        std::cout << kUsage;
-        std::exit(0);
-      } else if (key == "--quick") {
-        commands = records = 200;
-      } else if (valued.contains(key) && i + 1 < argc) {
-        valued.at(key)(argv[++i]);
-      } else {
-        throw std::invalid_argument(kUsage);
-      }
-    }
-    if (wheeltecd.empty()) throw std::invalid_argument(kUsage);
-  }
 };
+
+Options parse_arguments(BenchCommandLine& command_line, int argc, char** argv) {
+  Options s;
+  bool quick = false;
+  command_line.value("--wheeltecd", s.wheeltecd);
+  command_line.value("--json", s.json_path);
+  command_line.value("--commands", s.commands);
+  command_line.value("--records", s.records);
+  command_line.flag("--quick", quick);
+  command_line.parse(argc, argv);
+  if (quick && !command_line.given("--commands")) s.commands = 200;
+  if (quick && !command_line.given("--records")) s.records = 200;
+  if (s.wheeltecd.empty()) throw std::invalid_argument("--wheeltecd is required");
+  return s;
+}
 
 std::string p50_p99(const LatencySummary& l) { return fmt::format("{:.0f} / {:.0f}", l.p50_us, l.p99_us); }
 
 int run(const Options& s) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("wheeltec-bench-serial-{}", ::getpid());
-  fs::create_directories(dir);
+  const WorkDir work("wheeltec-bench-serial");
+  const fs::path& dir = work.path();
   json out;
 
   std::cerr << "bench: pty floor\n";
@@ -126,10 +116,7 @@ int run(const Options& s) {
                    command.count, p50_p99(command), p50_p99(floor_out));
   t += fmt::format("| record's last byte -> notification, 1 subscriber, n={} (lost {}) | {} | 24 bytes master -> slave: {} |\n",
                    telemetry.all.count, telemetry.lost, p50_p99(telemetry.all), p50_p99(floor_in));
-  std::cout << t;
-  out["table_markdown"] = t;
-  if (!s.json_path.empty()) std::ofstream(s.json_path) << out.dump(2) << "\n";
-  fs::remove_all(dir);
+  publish_table(t, out, s.json_path);
   return 0;
 }
 
@@ -137,10 +124,6 @@ int run(const Options& s) {
 }  // namespace bench
 
 int main(int argc, char** argv) {
-  try {
-    return bench::run(bench::Options(argc, argv));
-  } catch (const std::exception& e) {
-    std::cerr << "wheeltec-bench-serial: " << e.what() << "\n";
-    return 1;
-  }
+  bench::BenchCommandLine command_line("wheeltec-bench-serial", bench::kUsage);
+  return bench::run_main(command_line, [&] { return bench::run(bench::parse_arguments(command_line, argc, argv)); });
 }

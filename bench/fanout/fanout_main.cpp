@@ -29,19 +29,12 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
-#include <cmath>
-#include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <future>
 #include <iostream>
 #include <memory>
-#include <numeric>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -57,24 +50,23 @@
 #include "wheeltec/asio_can/frame_io.hpp"
 #include "wheeltec/asio_can/frame_reader.hpp"
 #include "wheeltec/asio_can/raw_protocol.hpp"
-#include "wheeltec/telemetry_group.hpp"
-#include "wheeltec/telemetry_json.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/telemetry_decoder.hpp"
+#include "wheeltec/telemetry_reassembler.hpp"
 
 #include "api_counters.hpp"
 #include "api_server.hpp"
-#include "can_link.hpp"
 #include "can_chassis_link.hpp"
-#include "wheeltec/telemetry_decoder.hpp"
-#include "wheeltec/telemetry_reassembler.hpp"
 #include "control_io.hpp"
 #include "control_loop.hpp"
 #include "control_policy.hpp"
 #include "rpc_handler.hpp"
 
 #include "bench_clock.hpp"
+#include "bench_command_line.hpp"
 #include "child_program.hpp"
+#include "gateway_latency.hpp"
 #include "subscriber_set.hpp"
+#include "work_dir.hpp"
 
 namespace {
 
@@ -92,31 +84,16 @@ struct Settings {
   std::string json_path;
 };
 
-Settings parse_arguments(int argc, char** argv) {
-  Settings s;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (i + 1 >= argc) {
-      std::cerr << "usage: wheeltec-bench-fanout [--step-s S] [--max-rate HZ] [--floor PATH] [--json FILE]\n";
-      std::exit(2);
-    }
-    const std::string value = argv[++i];
-    if (key == "--step-s") s.step_s = std::stod(value);
-    else if (key == "--max-rate") s.max_rate_hz = std::stod(value);
-    else if (key == "--floor") s.floor = value;
-    else if (key == "--json") s.json_path = value;
-    else {
-      std::cerr << "wheeltec-bench-fanout: unknown option " << key << "\n";
-      std::exit(2);
-    }
-  }
-  return s;
-}
+constexpr const char* kUsage = "usage: wheeltec-bench-fanout [--step-s S] [--max-rate HZ] [--floor PATH] [--json FILE]\n";
 
-double thread_cpu_s(clockid_t clock) {
-  timespec t{};
-  ::clock_gettime(clock, &t);
-  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
+Settings parse_arguments(bench::BenchCommandLine& command_line, int argc, char** argv) {
+  Settings s;
+  command_line.value("--step-s", s.step_s);
+  command_line.value("--max-rate", s.max_rate_hz);
+  command_line.value("--floor", s.floor);
+  command_line.value("--json", s.json_path);
+  command_line.parse(argc, argv);
+  return s;
 }
 
 GatewayConfig config_for(const fs::path& socket) {
@@ -173,7 +150,7 @@ class DaemonPath final : public GatewayUnderTest {
     thread_.join();
   }
 
-  double cpu_s() override { return thread_cpu_s(cpu_clock_); }
+  double cpu_s() override { return bench::thread_cpu_s(cpu_clock_); }
 
   std::uint64_t notifications_replaced() override {
     std::promise<std::uint64_t> count;
@@ -233,9 +210,7 @@ class RelayFloor final : public GatewayUnderTest {
   }
 
   std::uint64_t notifications_replaced() override {
-    bench::LineClient client(socket_);
-    client.send_line(R"({"jsonrpc":"2.0","id":1,"method":"stats"})");
-    return json::parse(client.read_line(2000)).at("result").at("notifications_dropped").get<std::uint64_t>();
+    return bench::api_call(socket_, "stats").at("notifications_dropped").get<std::uint64_t>();
   }
 
  private:
@@ -244,11 +219,7 @@ class RelayFloor final : public GatewayUnderTest {
 };
 
 std::array<can_frame, 3> frames_of_record(int n) {
-  RawTelemetry raw;
-  raw.vx = static_cast<std::int16_t>(n % 500);
-  raw.accel_z = 16400;
-  raw.battery_mv = 22500;
-  const TelemetryGroup group = make_telemetry_group(encode_record(raw));
+  const TelemetryGroup group = bench::bench_group(n);
   std::array<can_frame, 3> out{};
   for (std::size_t i = 0; i < 3; ++i) out[i] = asio_can::to_socketcan(group.frames[i]);
   return out;
@@ -262,14 +233,8 @@ struct SendResult {
 
 SendResult send_records(int fd, double rate_hz, std::uint64_t total, int first_seq) {
   SendResult result;
-  const int timer = ::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC);
-  const long interval_ns = std::max(50'000L, static_cast<long>(1e9 / rate_hz));
-  itimerspec spec{};
-  spec.it_interval.tv_sec = interval_ns / 1'000'000'000L;
-  spec.it_interval.tv_nsec = interval_ns % 1'000'000'000L;
-  spec.it_value = spec.it_interval;
   const double start = bench::now_us();
-  ::timerfd_settime(timer, 0, &spec, nullptr);
+  const int timer = bench::periodic_timer(rate_hz, 50'000L, TFD_CLOEXEC);
   while (result.sent < total) {
     std::uint64_t expirations = 0;
     if (::read(timer, &expirations, sizeof(expirations)) < 0) break;
@@ -315,7 +280,7 @@ Step run_step(double rate_hz, double step_s, GatewayUnderTest& gateway, int send
   const auto total = static_cast<std::uint64_t>(std::llround(rate_hz * step_s));
   const std::uint64_t replaced_before = gateway.notifications_replaced();
   const double gateway_before = gateway.cpu_s();
-  const double subscribers_before = thread_cpu_s(CLOCK_THREAD_CPUTIME_ID);
+  const double subscribers_before = bench::thread_cpu_s(CLOCK_THREAD_CPUTIME_ID);
   std::vector<std::size_t> lines(set.size(), 0);
   const int first_seq = next_seq;
   next_seq += static_cast<int>(total);
@@ -325,17 +290,9 @@ Step run_step(double rate_hz, double step_s, GatewayUnderTest& gateway, int send
   step.records = sent.sent;
   step.achieved_rate_hz = sent.send_s > 0 ? static_cast<double>(sent.sent) / sent.send_s : 0.0;
   step.expected = sent.sent * set.size();
-  // The last notifications: until all came, or none for 300 ms.
-  auto received = [&] { return std::accumulate(lines.begin(), lines.end(), std::uint64_t{0}); };
-  double last_progress = bench::now_us();
-  while (received() < step.expected && bench::now_us() - last_progress < 300e3) {
-    const auto got = received();
-    set.poll(50, lines);
-    if (received() != got) last_progress = bench::now_us();
-  }
-  step.received = received();
+  step.received = set.read_rest(lines, step.expected);
   step.gateway_cpu_s = gateway.cpu_s() - gateway_before;
-  step.subscribers_cpu_s = thread_cpu_s(CLOCK_THREAD_CPUTIME_ID) - subscribers_before;
+  step.subscribers_cpu_s = bench::thread_cpu_s(CLOCK_THREAD_CPUTIME_ID) - subscribers_before;
   step.replaced = gateway.notifications_replaced() - replaced_before;
   return step;
 }
@@ -371,39 +328,32 @@ std::array<int, 2> frame_socket_pair() {
   return {pair[0], pair[1]};
 }
 
-}  // namespace
-
-int main(int argc, char** argv) try {
-  const Settings s = parse_arguments(argc, argv);
+int measure(const Settings& s) {
   spdlog::set_level(spdlog::level::warn);
-  const fs::path dir = fs::temp_directory_path() / fmt::format("wheeltec-fanout-{}", ::getpid());
-  fs::create_directories(dir);
+  const bench::WorkDir work("wheeltec-fanout");
+  const fs::path& dir = work.path();
 
   json out = {{"subscribers", kSubscribers}};
-  {
-    const fs::path socket = dir / "wheeltecd.sock";
+  // Each gateway fed through a frame socket pair of its own; `start` owns the gateway's end.
+  auto measure_gateway = [&](const std::string& name, auto&& start) {
+    const fs::path socket = dir / (name + ".sock");
     const auto [gateway_end, sender_end] = frame_socket_pair();
     json steps = json::array();
     {
-      DaemonPath daemon(socket, gateway_end);  // owns gateway_end from here
-      out["wheeltecd"]["max_no_loss_rate_hz"] = step_up(s, "wheeltecd", daemon, socket, sender_end, steps);
+      const auto gateway = start(socket, gateway_end);
+      out[name]["max_no_loss_rate_hz"] = step_up(s, name, *gateway, socket, sender_end, steps);
     }
-    out["wheeltecd"]["steps"] = steps;
+    out[name]["steps"] = steps;
     ::close(sender_end);
-  }
+  };
+  measure_gateway("wheeltecd", [](const fs::path& socket, int end) { return std::make_unique<DaemonPath>(socket, end); });
   if (!s.floor.empty()) {
-    const fs::path socket = dir / "floor.sock";
-    const auto [gateway_end, sender_end] = frame_socket_pair();
-    json steps = json::array();
-    {
-      RelayFloor relay(s.floor, socket, gateway_end, dir);
-      ::close(gateway_end);
-      out["floor"]["max_no_loss_rate_hz"] = step_up(s, "floor", relay, socket, sender_end, steps);
-    }
-    out["floor"]["steps"] = steps;
-    ::close(sender_end);
+    measure_gateway("floor", [&](const fs::path& socket, int end) {
+      auto relay = std::make_unique<RelayFloor>(s.floor, socket, end, dir);
+      ::close(end);
+      return relay;
+    });
   }
-  fs::remove_all(dir);
   std::cout << fmt::format("highest rate to {} subscribers with no loss (of the steps tried): wheeltecd {:.0f} records/s",
                            kSubscribers, out["wheeltecd"]["max_no_loss_rate_hz"].get<double>());
   if (out.contains("floor")) {
@@ -412,7 +362,11 @@ int main(int argc, char** argv) try {
   std::cout << "\n";
   if (!s.json_path.empty()) std::ofstream(s.json_path) << out.dump(2) << "\n";
   return 0;
-} catch (const std::exception& e) {
-  std::cerr << "wheeltec-bench-fanout: " << e.what() << "\n";
-  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bench::BenchCommandLine command_line("wheeltec-bench-fanout", kUsage);
+  return bench::run_main(command_line, [&] { return measure(parse_arguments(command_line, argc, argv)); });
 }

@@ -16,47 +16,32 @@
 // Prints markdown tables on stdout and writes every figure as JSON (--json).
 //
 // --serial: one robot whose chassis is a serial line, natively (no vcan, no User-Mode Linux):
-// the benchmark plays the controller on a pseudo-terminal (bench/e2e's PtyEndpoint, records at
+// the benchmark plays the controller on a pseudo-terminal (the harness' PtyEndpoint, records at
 // 20 Hz) in place of the emulator, and times the command frames when it reads them. The drives
 // (1, with the paho bridge and the broker's hop) and the broker loss run; 2-4 need the bus.
 
-#include <poll.h>
-#include <stdlib.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
-#include <unordered_map>
 #include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/asio_can/frame_io.hpp"
-
 #include "bench_clock.hpp"
 #include "bench_figures.hpp"
+#include "bridge_bench.hpp"
 #include "broker_loss.hpp"
 #include "bus_observer.hpp"
-#include "command_frames.hpp"
-#include "fleet_processes.hpp"
 #include "latency_stats.hpp"
 #include "mqtt_endpoints.hpp"
 #include "process_profile.hpp"
-#include "pty_endpoint.hpp"
 #include "serial_chassis.hpp"
-#include "subscriber_set.hpp"
 
 namespace {
 
@@ -68,22 +53,13 @@ using std::chrono::milliseconds;
 constexpr double kTelemetryHz = 20.0;  // the emulator's (and the stock firmware's) record rate
 constexpr const char* kPrefix = "wheeltec";
 
-struct Settings {
-  FleetPrograms programs;
-  std::string json_path;
-  std::string work_dir;  // default: a new directory in /tmp, removed at the end
-  double telemetry_s = 20.0;
-  int drives = 300;  // over the broker, and as many on the daemon's socket
-  int drive_block = 50;
-  double drive_interval_ms = 100.0;  // an operator's tool repeating its drive at 10 Hz
+struct Settings : BridgeSettings {
   std::vector<int> robots{1, 2, 4, 8, 16};
   double step_s = 10.0;
   bool keep_going = false;  // scaling: go on after a step that lost records
   int run_all_up_to = 8;    // scaling: steps of up to this many robots run even after a lossy one
-  bool quick = false;
   bool operator_nodelay = false;            // the benchmark's publisher sets TCP_NODELAY
   std::vector<std::string> broker_config;  // more lines of mosquitto.conf
-  std::string strace;                      // given: system calls per record counted (bridge, broker)
   int loss_rounds = 5;                     // broker kills per bridge
   bool serial = false;                     // r1's chassis on a pty played by the benchmark; no emulator
 };
@@ -91,83 +67,48 @@ struct Settings {
 constexpr const char* kPahoRobot = "py1";  // the paho bridge's topics: same daemon as r1, topics of its own
 constexpr const char* kHopTopic = "wheeltec-bench/hop";  // the broker's hop alone: no bridge subscribes to it
 
-void usage() {
-  std::cout << "usage: wheeltec-bench-mqtt --wheeltecd PATH --emulator PATH --bridge PATH [--mosquitto PATH]\n"
-               "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
-               "       [--drive-interval-ms MS] [--robots 1,2,4,8,16] [--step-seconds S] [--keep-going]\n"
-               "       [--operator-nodelay] [--broker-config 'MOSQUITTO.CONF LINE']... [--strace PATH]\n"
-               "       --paho-bridge bench/mqtt/paho_bridge.py [--python /usr/bin/python3] [--loss-rounds N] [--serial]\n"
-               "The paho bridge (Python, paho-mqtt) drives r1's daemon as robot py1: the reference in the same run.\n"
-               "Scaling: the steps of up to 8 robots (--quick: 2) always run; after them, a step that lost records or\n"
-               "found the machine 95 % busy is the last (--keep-going: every step).\n"
-               "Runs where vcan0..vcanN-1 exist (scripts/vcan-run with VCAN_INTERFACES); see scripts/bench-mqtt.sh.\n"
-               "--serial: natively, one robot whose chassis is a pseudo-terminal played by the benchmark (no --emulator,\n"
-               "no vcan): the drives and the broker loss only.\n";
-}
+constexpr const char* kUsage =
+    "usage: wheeltec-bench-mqtt --wheeltecd PATH --emulator PATH --bridge PATH [--mosquitto PATH]\n"
+    "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
+    "       [--drive-interval-ms MS] [--robots 1,2,4,8,16] [--step-seconds S] [--keep-going]\n"
+    "       [--operator-nodelay] [--broker-config 'MOSQUITTO.CONF LINE']... [--strace PATH]\n"
+    "       --paho-bridge bench/mqtt/paho_bridge.py [--python /usr/bin/python3] [--loss-rounds N] [--serial]\n"
+    "The paho bridge (Python, paho-mqtt) drives r1's daemon as robot py1: the reference in the same run.\n"
+    "Scaling: the steps of up to 8 robots (--quick: 2) always run; after them, a step that lost records or\n"
+    "found the machine 95 % busy is the last (--keep-going: every step).\n"
+    "Runs where vcan0..vcanN-1 exist (scripts/vcan-run with VCAN_INTERFACES); see scripts/bench-mqtt.sh.\n"
+    "--serial: natively, one robot whose chassis is a pseudo-terminal played by the benchmark (no --emulator,\n"
+    "no vcan): the drives and the broker loss only.\n";
 
-std::vector<int> parse_list(const std::string& text) {
-  std::vector<int> values;
-  std::istringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    const int value = std::stoi(item);
-    if (value < 1) throw std::invalid_argument("--robots: counts must be at least 1");
-    values.push_back(value);
-  }
-  if (values.empty()) throw std::invalid_argument("--robots: empty");
-  return values;
-}
-
-Settings parse_arguments(int argc, char** argv) {
+Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) {
   Settings s;
-  bool robots_given = false, step_given = false, telemetry_given = false, drives_given = false, loss_given = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (key == "--help" || key == "-h") {
-      usage();
-      std::exit(0);
-    }
-    if (key == "--quick") {
-      s.quick = true;
-      continue;
-    }
-    if (key == "--keep-going" || key == "--operator-nodelay" || key == "--serial") {
-      (key == "--keep-going" ? s.keep_going : key == "--serial" ? s.serial : s.operator_nodelay) = true;
-      continue;
-    }
-    if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
-    const std::string value = argv[++i];
-    if (key == "--wheeltecd") s.programs.wheeltecd = value;
-    else if (key == "--emulator") s.programs.emulator = value;
-    else if (key == "--bridge") s.programs.bridge = value;
-    else if (key == "--mosquitto") s.programs.mosquitto = value;
-    else if (key == "--json") s.json_path = value;
-    else if (key == "--work-dir") s.work_dir = value;
-    else if (key == "--telemetry-seconds") s.telemetry_s = std::stod(value), telemetry_given = true;
-    else if (key == "--drives") s.drives = std::stoi(value), drives_given = true;
-    else if (key == "--drive-interval-ms") s.drive_interval_ms = std::stod(value);
-    else if (key == "--robots") s.robots = parse_list(value), robots_given = true;
-    else if (key == "--step-seconds") s.step_s = std::stod(value), step_given = true;
-    else if (key == "--broker-config") s.broker_config.push_back(value);
-    else if (key == "--strace") s.strace = value;
-    else if (key == "--paho-bridge") s.programs.paho_bridge = value;
-    else if (key == "--python") s.programs.python = value;
-    else if (key == "--loss-rounds") s.loss_rounds = std::stoi(value), loss_given = true;
-    else throw std::invalid_argument("unknown option " + key);
+  add_bridge_options(command_line, s);
+  command_line.value("--mosquitto", s.programs.mosquitto);
+  command_line.value("--paho-bridge", s.programs.paho_bridge);
+  command_line.value("--python", s.programs.python);
+  command_line.value("--robots", s.robots)->delimiter(',');
+  command_line.value("--step-seconds", s.step_s);
+  command_line.value("--broker-config", s.broker_config)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  command_line.value("--loss-rounds", s.loss_rounds);
+  command_line.flag("--keep-going", s.keep_going);
+  command_line.flag("--operator-nodelay", s.operator_nodelay);
+  command_line.flag("--serial", s.serial);
+  command_line.parse(argc, argv);
+  if (std::any_of(s.robots.begin(), s.robots.end(), [](int n) { return n < 1; })) {
+    throw std::invalid_argument("--robots: counts must be at least 1");
   }
+  finish_bridge_options(command_line, s, {.telemetry_s = 3.0, .drives = 40, .drive_block = 20});
   if (s.quick) {
-    if (!telemetry_given) s.telemetry_s = 3.0;
-    if (!drives_given) s.drives = 40;
-    if (!robots_given) s.robots = {1, 2};
-    if (!step_given) s.step_s = 3.0;
-    s.drive_block = 20;
+    if (!command_line.given("--robots")) s.robots = {1, 2};
+    if (!command_line.given("--step-seconds")) s.step_s = 3.0;
     s.run_all_up_to = 2;
-    if (!loss_given) s.loss_rounds = 2;
+    if (!command_line.given("--loss-rounds")) s.loss_rounds = 2;
   }
   if (s.programs.wheeltecd.empty() || (s.programs.emulator.empty() && !s.serial) || s.programs.bridge.empty() ||
       s.programs.paho_bridge.empty()) {
     throw std::invalid_argument("--wheeltecd, --emulator (except with --serial), --bridge and --paho-bridge are required");
   }
-  if (s.drives < 2 || s.telemetry_s <= 0 || s.step_s <= 0) throw std::invalid_argument("nothing to measure");
+  if (s.robots.empty() || s.step_s <= 0) throw std::invalid_argument("nothing to measure");
   return s;
 }
 
@@ -175,8 +116,6 @@ std::string robot_name(std::size_t index) { return "r" + std::to_string(index + 
 std::string interface_name(std::size_t index) { return "vcan" + std::to_string(index); }
 // Where the benchmark publishes the pty whose controller it plays (--serial).
 fs::path serial_device(const fs::path& work) { return work / "wheeltec_controller"; }
-
-void sleep_ms(double ms) { std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(ms * 1000))); }
 
 // ---- what the subscriber received, by robot ----
 
@@ -296,21 +235,7 @@ std::vector<std::pair<std::int64_t, std::int64_t>> pairs_of(const std::vector<Te
   return pairs;
 }
 
-// ---- CPU from /proc ----
-
 // ---- drives ----
-
-struct DriveSeries {
-  std::vector<double> latency_us;
-  int missed = 0;  // no frame with the velocity within 1 s
-  json to_json() const {
-    json j = summarize(latency_us).to_json();
-    j["missed"] = missed;
-    j["samples_us"] = samples_json(latency_us);
-    return j;
-  }
-};
-
 
 struct DriveResults {
   DriveSeries mqtt, direct, paho;
@@ -335,120 +260,63 @@ void wait_for_stop_reply(Receipts& receipts, const std::string& id) {
 DriveResults measure_drives(const Settings& settings, Robot& robot, CommandFrames& frames, int broker_port,
                             Receipts& receipts) {
   MqttPublisher publisher("127.0.0.1", broker_port, "wheeltec-bench-operator", settings.operator_nodelay);
-  const std::string drive_topic = fmt::format("{}/{}/cmd/drive", kPrefix, robot.name());
-  const std::string stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, robot.name());
   DriveResults results;
   int id = 0;
-  int mm_direct = 100, mm_mqtt = 300, mm_paho = 200;  // each drive a new target: the daemon sends its frame at once
-  const std::string paho_drive_topic = fmt::format("{}/{}/cmd/drive", kPrefix, kPahoRobot);
-  const std::string paho_stop_topic = fmt::format("{}/{}/cmd/stop", kPrefix, kPahoRobot);
-  auto next_mm = [](int& mm, int base) { return mm = base + (mm - base + 1) % 100; };
+  int mm_mqtt = 300, mm_paho = 200;
 
   // A drive published on a bridge's topic, timed to its command frame.
-  auto drive_through = [&](const std::string& topic, int& mm, int base, DriveSeries& series, bool counted) {
-    next_mm(mm, base);
-    frames.drain();
-    const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", mm / 1000.0, ++id);
-    const std::int64_t sent = publisher.publish(topic, payload);
-    const auto frame = frames.first_with(mm);
-    if (counted) {
-      if (frame) series.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
-      else ++series.missed;
-    }
-    publisher.service();
+  auto drive_through = [&](const std::string& robot_name, int& mm, int base, DriveSeries& series) {
+    return [&, topic = fmt::format("{}/{}/cmd/drive", kPrefix, robot_name), base](bool counted) {
+      const int target = next_target(mm, base);
+      frames.drain();
+      const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", target / 1000.0, ++id);
+      const std::int64_t sent = publisher.publish(topic, payload);
+      const auto frame = frames.first_with(target);
+      if (counted) series.add(target, sent, frame);
+      publisher.service();
+    };
   };
-  auto mqtt_drive = [&](bool counted) { drive_through(drive_topic, mm_mqtt, 300, results.mqtt, counted); };
+  DrivePath mqtt{drive_through(robot.name(), mm_mqtt, 300, results.mqtt), [&] {
+                   const std::string stop_id = "stop-" + std::to_string(++id);
+                   publisher.publish(fmt::format("{}/{}/cmd/stop", kPrefix, robot.name()), fmt::format(R"({{"id":"{}"}})", stop_id));
+                   wait_for_stop_reply(receipts, stop_id);
+                   publisher.service();
+                 }};
+  mqtt.cpu_of = robot.bridge().pid();
+  // The paho bridge has no replies on MQTT: its stop is seen on the bus.
+  DrivePath paho{drive_through(kPahoRobot, mm_paho, 200, results.paho), [&] {
+                   frames.drain();
+                   publisher.publish(fmt::format("{}/{}/cmd/stop", kPrefix, kPahoRobot), "{}");
+                   frames.first_with(0);
+                   publisher.service();
+                 }};
+  paho.cpu_of = robot.paho_bridge().pid();
   // The broker's part of both bridges' paths: the same publish to a subscriber that does
   // nothing (libmosquitto's thread, woken as a bridge is), timed to its message callback.
   MqttSubscriber hop_subscriber("127.0.0.1", broker_port, "wheeltec-bench-hop", {std::string(kHopTopic)});
-  auto broker_hop = [&](bool counted) {
-    hop_subscriber.take();
-    const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", 0.5, ++id);
-    const std::int64_t sent = publisher.publish(kHopTopic, payload);
-    std::optional<std::int64_t> received;
-    // Looked at every 20 ms (the callback took the time): a polling thread would take the
-    // one vCPU of User-Mode Linux from the thread being timed.
-    for (int waited = 0; !received && waited < 1000; waited += 20) {
-      sleep_ms(20);
-      for (const auto& message : hop_subscriber.take()) {
-        if (message.payload == payload) received = message.received_ns;
-      }
-    }
-    if (counted) {
-      if (received) results.broker_hop.latency_us.push_back(static_cast<double>(*received - sent) / 1e3);
-      else ++results.broker_hop.missed;
-    }
-    publisher.service();
-  };
-  auto paho_drive = [&](bool counted) { drive_through(paho_drive_topic, mm_paho, 200, results.paho, counted); };
-  // The paho bridge has no replies on MQTT: its stop is seen on the bus.
-  auto paho_stop = [&] {
-    frames.drain();
-    publisher.publish(paho_stop_topic, "{}");
-    frames.first_with(0);
-    publisher.service();
-  };
-  auto direct_drive = [&](LineClient& client, bool counted) {
-    const int mm = next_mm(mm_direct, 100);
-    frames.drain();
-    const std::string line = fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{:.3f}}}}})",
-                                         ++id, mm / 1000.0);
-    const std::int64_t sent = realtime_ns();
-    client.send_line(line);
-    const auto frame = frames.first_with(mm);
-    const std::string reply = client.read_line(2000);
-    if (reply.find("\"result\"") == std::string::npos && results.first_errors.size() < 5) {
-      results.first_errors.push_back("direct drive: " + reply);
-    }
-    if (counted) {
-      if (frame) results.direct.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
-      else ++results.direct.missed;
-    }
-  };
-  auto paced = [&](int count, auto&& one) {
-    const auto start = std::chrono::steady_clock::now();
-    for (int i = 0; i < count; ++i) {
-      std::this_thread::sleep_until(start + std::chrono::microseconds(static_cast<long long>(i * settings.drive_interval_ms * 1000)));
-      one();
-    }
-  };
-  auto mqtt_stop = [&] {
-    const std::string stop_id = "stop-" + std::to_string(++id);
-    publisher.publish(stop_topic, fmt::format(R"({{"id":"{}"}})", stop_id));
-    wait_for_stop_reply(receipts, stop_id);
-    publisher.service();
-  };
-
-  // Warm-up: the bridge opens the operator's daemon connection on its first drive.
-  paced(3, [&] { mqtt_drive(false); });
-  mqtt_stop();
-  paced(3, [&] { paho_drive(false); });
-  paho_stop();
-  {
-    LineClient client(robot.socket());
-    paced(3, [&] { direct_drive(client, false); });
-    client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
-    client.read_line(2000);
-  }
-  // Alternating blocks, so that both paths see the same load on the host.
-  for (int done = 0; done < settings.drives; done += settings.drive_block) {
-    const int n = std::min(settings.drive_block, settings.drives - done);
-    {
-      LineClient client(robot.socket());
-      paced(n, [&] { direct_drive(client, true); });
-      client.send_line(R"({"jsonrpc":"2.0","id":0,"method":"stop"})");
-      client.read_line(2000);
-    }  // closed: control released
-    double cpu0 = cpu_s(robot.bridge().pid());
-    paced(n, [&] { mqtt_drive(true); });
-    results.mqtt_cpu_s += cpu_s(robot.bridge().pid()) - cpu0;
-    mqtt_stop();
-    cpu0 = cpu_s(robot.paho_bridge().pid());
-    paced(n, [&] { paho_drive(true); });
-    results.paho_cpu_s += cpu_s(robot.paho_bridge().pid()) - cpu0;
-    paho_stop();
-    paced(n, [&] { broker_hop(true); });
-  }
+  DrivePath hop{[&](bool counted) {
+                  hop_subscriber.take();
+                  const std::string payload = fmt::format(R"({{"vx":{:.3f},"operator":"bench","id":{}}})", 0.5, ++id);
+                  const std::int64_t sent = publisher.publish(kHopTopic, payload);
+                  std::optional<std::int64_t> received;
+                  // Looked at every 20 ms (the callback took the time): a polling thread would take the
+                  // one vCPU of User-Mode Linux from the thread being timed.
+                  for (int waited = 0; !received && waited < 1000; waited += 20) {
+                    sleep_ms(20);
+                    for (const auto& message : hop_subscriber.take()) {
+                      if (message.payload == payload) received = message.received_ns;
+                    }
+                  }
+                  if (counted) results.broker_hop.add(0, sent, received);
+                  publisher.service();
+                },
+                [] {}};
+  hop.warm_up = false;
+  SocketDrives direct(robot.socket(), frames, results.first_errors);
+  std::vector<DrivePath> paths{direct.path(results.direct), std::move(mqtt), std::move(paho), std::move(hop)};
+  drive_in_alternating_blocks(paths, settings.drives);
+  results.mqtt_cpu_s = paths[1].cpu_s;
+  results.paho_cpu_s = paths[2].cpu_s;
   receipts.absorb();
   for (const auto& result : receipts.results()) {
     if (result.contains("error")) {
@@ -458,10 +326,6 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, CommandFrame
   }
   return results;
 }
-
-// ---- formatting ----
-
-std::string us(double value) { return fmt::format("{:.0f}", value); }
 
 // ---- the run ----
 
@@ -506,38 +370,28 @@ TelemetryFigures measure_telemetry(const Settings& settings, Fleet& fleet, BusOb
                                    const fs::path& work, json& errors) {
   Robot& r1 = *fleet.robots[0];
   std::cerr << "wheeltec-bench-mqtt: telemetry, 1 robot, " << settings.telemetry_s << " s\n";
-  const std::int64_t t0 = realtime_ns();
-  const double bridge0 = cpu_s(r1.bridge().pid()), daemon0 = cpu_s(r1.daemon().pid()),
-               broker0 = cpu_s(fleet.broker->pid()), emulator0 = cpu_s(r1.emulator().pid());
-  const MachineCpu machine0 = machine_cpu();
+  CpuWindow window({r1.bridge().pid(), r1.daemon().pid(), fleet.broker->pid(), r1.emulator().pid()});
   receipts.wait(settings.telemetry_s * 1000);
-  const std::int64_t t1 = realtime_ns();
-  const double bridge1 = cpu_s(r1.bridge().pid()), daemon1 = cpu_s(r1.daemon().pid()),
-               broker1 = cpu_s(fleet.broker->pid()), emulator1 = cpu_s(r1.emulator().pid());
-  const MachineCpu machine1 = machine_cpu();
+  window.close();
   receipts.wait(1000);  // records of the window still on their way
   const auto frames = observer.record_frames(0);
-  const TelemetryMatch via_mqtt = match_records(frames, pairs_of(receipts.robot(r1.name()).telemetry), t0, t1);
-  const TelemetryMatch direct = match_records(frames, observer.direct_notifications(), t0, t1);
-  std::size_t published = 0;  // records the bridge published in the window: those received in it
-  for (const auto& receipt : receipts.robot(r1.name()).telemetry) {
-    if (receipt.received_ns >= t0 && receipt.received_ns < t1) ++published;
-  }
-  const double window_s = static_cast<double>(t1 - t0) / 1e9;
+  const auto received = [&] { return pairs_of(receipts.robot(r1.name()).telemetry); };
+  const TelemetryMatch via_mqtt = match_records(frames, received(), window.from_ns, window.to_ns);
+  const TelemetryMatch direct = match_records(frames, observer.direct_notifications(), window.from_ns, window.to_ns);
+  // Records the bridge published in the window: those received in it.
+  const std::size_t published = received_between(received(), window.from_ns, window.to_ns);
+  const double window_s = window.seconds();
   auto per_record_us = [&](double cpu) { return published == 0 ? 0.0 : cpu / static_cast<double>(published) * 1e6; };
   json telemetry = {{"window_s", window_s},
                     {"via_mqtt", match_json(via_mqtt, true)},
                     {"direct_wheeltecd_subscriber", match_json(direct, true)}};
   json cpu = {{"records_published", published},
-              {"bridge_cpu_s", bridge1 - bridge0},
-              {"bridge_us_per_record", per_record_us(bridge1 - bridge0)},
-              {"wheeltecd_us_per_record", per_record_us(daemon1 - daemon0)},
-              {"mosquitto_us_per_record", per_record_us(broker1 - broker0)},
-              {"emulator_us_per_record", per_record_us(emulator1 - emulator0)},
-              {"machine_busy_pct", machine1.total > machine0.total
-                                       ? 100.0 * static_cast<double>(machine1.busy - machine0.busy) /
-                                             static_cast<double>(machine1.total - machine0.total)
-                                       : 0.0}};
+              {"bridge_cpu_s", window.cpu_s(0)},
+              {"bridge_us_per_record", per_record_us(window.cpu_s(0))},
+              {"wheeltecd_us_per_record", per_record_us(window.cpu_s(1))},
+              {"mosquitto_us_per_record", per_record_us(window.cpu_s(2))},
+              {"emulator_us_per_record", per_record_us(window.cpu_s(3))},
+              {"machine_busy_pct", window.busy_pct()}};
   if (via_mqtt.delivered == 0) errors.push_back("no telemetry record matched between the bus and the subscriber");
 
   // ---- 1 robot: system calls per record, counted exactly (strace -c), bridge and broker ----
@@ -545,30 +399,12 @@ TelemetryFigures measure_telemetry(const Settings& settings, Fleet& fleet, BusOb
   if (!settings.strace.empty()) {
     const double seconds = std::min(10.0, settings.telemetry_s);
     std::cerr << "wheeltec-bench-mqtt: system calls, 1 robot, " << seconds << " s under strace -c\n";
-    SyscallCount bridge_calls(settings.strace, r1.bridge().pid(), work, "wheeltec-mqtt");
-    SyscallCount broker_calls(settings.strace, fleet.broker->pid(), work, "mosquitto");
-    const std::int64_t c0 = realtime_ns();
-    receipts.wait(seconds * 1000);
-    const std::int64_t c1 = realtime_ns();
-    const auto bridge_counts = bridge_calls.stop();
-    const auto broker_counts = broker_calls.stop();
-    receipts.wait(500);
-    std::size_t records = 0;
-    for (const auto& receipt : receipts.robot(r1.name()).telemetry) {
-      if (receipt.received_ns >= c0 && receipt.received_ns < c1) ++records;
-    }
-    auto per_record = [&](const std::map<std::string, std::uint64_t>& counts) {
-      json j = json::object();
-      for (const auto& [name, calls] : counts) {
-        j[name] = records == 0 ? 0.0 : static_cast<double>(calls) / static_cast<double>(records);
-      }
-      return j;
-    };
-    syscalls = {{"seconds", static_cast<double>(c1 - c0) / 1e9},
-                {"records", records},
-                {"bridge_per_record", per_record(bridge_counts)},
-                {"mosquitto_per_record", per_record(broker_counts)}};
-    if (records == 0) errors.push_back("no telemetry record while the system calls were counted");
+    syscalls = syscalls_per_record(
+        settings.strace, work, seconds,
+        {{"wheeltec-mqtt", "bridge_per_record", r1.bridge().pid()}, {"mosquitto", "mosquitto_per_record", fleet.broker->pid()}},
+        [&](double ms) { receipts.wait(ms); },
+        [&](std::int64_t from_ns, std::int64_t to_ns) { return received_between(received(), from_ns, to_ns); });
+    if (syscalls["records"] == 0) errors.push_back("no telemetry record while the system calls were counted");
   }
   return {std::move(telemetry), std::move(cpu), std::move(syscalls), via_mqtt, direct, published, window_s};
 }
@@ -588,27 +424,23 @@ json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observ
       break;
     }
     receipts.wait(1000);
-    std::vector<double> bridge_before, broker_before(1), daemons_before, emulators_before;
-    const std::int64_t s0 = realtime_ns();
+    std::vector<pid_t> pids{fleet.broker->pid()};
     for (std::size_t i = 0; i < count; ++i) {
-      bridge_before.push_back(cpu_s(fleet.robots[i]->bridge().pid()));
-      daemons_before.push_back(cpu_s(fleet.robots[i]->daemon().pid()));
-      emulators_before.push_back(cpu_s(fleet.robots[i]->emulator().pid()));
+      pids.insert(pids.end(), {fleet.robots[i]->bridge().pid(), fleet.robots[i]->daemon().pid(), fleet.robots[i]->emulator().pid()});
     }
-    broker_before[0] = cpu_s(fleet.broker->pid());
-    const MachineCpu m0 = machine_cpu();
+    CpuWindow window(pids);
     receipts.wait(settings.step_s * 1000);
-    const std::int64_t s1 = realtime_ns();
+    window.close();
+    const std::int64_t s0 = window.from_ns, s1 = window.to_ns;
     double bridges_cpu = 0, daemons_cpu = 0, emulators_cpu = 0;
     for (std::size_t i = 0; i < count; ++i) {
-      bridges_cpu += cpu_s(fleet.robots[i]->bridge().pid()) - bridge_before[i];
-      daemons_cpu += cpu_s(fleet.robots[i]->daemon().pid()) - daemons_before[i];
-      emulators_cpu += cpu_s(fleet.robots[i]->emulator().pid()) - emulators_before[i];
+      bridges_cpu += window.cpu_s(1 + 3 * i);
+      daemons_cpu += window.cpu_s(2 + 3 * i);
+      emulators_cpu += window.cpu_s(3 + 3 * i);
     }
-    const double broker_cpu = cpu_s(fleet.broker->pid()) - broker_before[0];
-    const MachineCpu m1 = machine_cpu();
+    const double broker_cpu = window.cpu_s(0);
     receipts.wait(1500);  // late records and the stats published after the window
-    const double seconds = static_cast<double>(s1 - s0) / 1e9;
+    const double seconds = window.seconds();
 
     TelemetryMatch all;
     std::size_t received_in_window = 0;
@@ -623,9 +455,7 @@ json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observ
       all.on_bus += match.on_bus;
       all.delivered += match.delivered;
       all.latency_us.insert(all.latency_us.end(), match.latency_us.begin(), match.latency_us.end());
-      for (const auto& receipt : got.telemetry) {
-        if (receipt.received_ns >= s0 && receipt.received_ns < s1) ++received_in_window;
-      }
+      received_in_window += received_between(pairs_of(got.telemetry), s0, s1);
       // The bridge's counters: the last stats before the window and the last one after it.
       json before, after;
       for (const auto& stats : got.stats) {
@@ -673,9 +503,7 @@ json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observ
       for (auto& name : robot.ended()) ended.push_back(name);
     }
     const double expected = kTelemetryHz * n * seconds;
-    const double busy_pct = m1.total > m0.total ? 100.0 * static_cast<double>(m1.busy - m0.busy) /
-                                                      static_cast<double>(m1.total - m0.total)
-                                                : 0.0;
+    const double busy_pct = window.busy_pct();
     json step = match_json(all);
     step["robots"] = n;
     step["seconds"] = seconds;
@@ -707,19 +535,12 @@ json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observ
 // Everything that runs: the programs end (in reverse order of their start) when it returns.
 int measure(const Settings& settings, const fs::path& work) {
   const auto started = std::chrono::steady_clock::now();
-  json out;
+  json out = start_figures(settings, {{"robots", settings.robots},
+                                      {"run_all_up_to", settings.run_all_up_to},
+                                      {"step_seconds", settings.step_s},
+                                      {"operator_nodelay", settings.operator_nodelay},
+                                      {"broker_config", settings.broker_config}});
   json errors = json::array();
-  out["machine"] = machine_json();
-  out["settings"] = {{"quick", settings.quick},
-                     {"telemetry_seconds", settings.telemetry_s},
-                     {"drives", settings.drives},
-                     {"drive_block", settings.drive_block},
-                     {"drive_interval_ms", settings.drive_interval_ms},
-                     {"robots", settings.robots},
-                     {"run_all_up_to", settings.run_all_up_to},
-                     {"step_seconds", settings.step_s},
-                     {"operator_nodelay", settings.operator_nodelay},
-                     {"broker_config", settings.broker_config}};
   if (settings.serial) {
     out["machine"]["chassis_link"] =
         "serial: a pseudo-terminal whose controller is the benchmark; command frames timed when read (no receive timestamp)";
@@ -760,7 +581,7 @@ int measure(const Settings& settings, const fs::path& work) {
   json& telemetry = figures.telemetry;
 
   // ---- 1 robot: drives, over the broker and on the daemon's socket ----
-  std::cerr << "wheeltec-bench-mqtt: " << settings.drives << " drives over MQTT and as many on the daemon's socket\n";
+  std::cerr << "wheeltec-bench-mqtt: " << settings.drives.drives << " drives over MQTT and as many on the daemon's socket\n";
   const std::int64_t d0 = realtime_ns();
   const DriveResults drives = measure_drives(settings, r1, *command_frames(), fleet.broker->port(), receipts);
   const std::int64_t d1 = realtime_ns();
@@ -770,7 +591,7 @@ int measure(const Settings& settings, const fs::path& work) {
     while_driving = match_records(observer->record_frames(0), pairs_of(receipts.robot(r1.name()).telemetry), d0, d1);
     telemetry["via_mqtt_while_driving"] = match_json(while_driving, true);
   }
-  const auto p50_of = [](const DriveSeries& series) { return summarize(series.latency_us).p50_us; };
+  const auto p50_of = [](const DriveSeries& series) { return series.p50_us(); };
   const auto per_drive_us = [](double cpu_s, const DriveSeries& series) {
     const auto n = series.latency_us.size() + static_cast<std::size_t>(series.missed);
     return n == 0 ? 0.0 : cpu_s / static_cast<double>(n) * 1e6;
@@ -821,9 +642,7 @@ int measure(const Settings& settings, const fs::path& work) {
   out["drives"] = drive_json;
   out["broker_loss"] = loss_json;
   if (!settings.serial) out["scaling"] = steps;
-  out["errors"] = errors;
-  out["load_average_at_end"] = load_average();
-  out["elapsed_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  close_figures(out, errors, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 
   // ---- the tables ----
   const std::string frame = settings.serial ? "command frame" : "0x121 frame";
@@ -833,31 +652,22 @@ int measure(const Settings& settings, const fs::path& work) {
                                                                              : "";
   std::cout << "| wheeltec-mqtt, 1 robot (" << where
             << "1 broker, 1 subscriber) | p50 / p99 (us) | n | lost or missed |\n|---|---|---|---|\n";
-  std::cout << "| drive published on the broker -> first " << frame << " with its velocity | "
-            << p50_p99(drive_json["via_mqtt"]) << " | " << drive_json["via_mqtt"]["count"] << " | "
-            << drives.mqtt.missed << " |\n";
-  std::cout << "| drive published on the broker -> first " << frame << ", through the paho-mqtt bridge (Python) | "
-            << p50_p99(drive_json["via_paho_bridge"]) << " | " << drive_json["via_paho_bridge"]["count"] << " | "
-            << drives.paho.missed << " |\n";
-  std::cout << "| reference: drive written on wheeltecd's socket -> frame (same blocks, alternating) | "
-            << p50_p99(drive_json["direct_wheeltecd"]) << " | " << drive_json["direct_wheeltecd"]["count"] << " | "
-            << drives.direct.missed << " |\n";
-  std::cout << "| reference: the same message published -> a plain subscriber's callback (the broker's hop, in both "
-               "bridges' figures; same blocks) | "
-            << p50_p99(drive_json["broker_hop"]) << " | " << drive_json["broker_hop"]["count"] << " | "
-            << drives.broker_hop.missed << " |\n";
+  latency_row("drive published on the broker -> first " + frame + " with its velocity", drive_json["via_mqtt"],
+              std::to_string(drives.mqtt.missed));
+  latency_row("drive published on the broker -> first " + frame + ", through the paho-mqtt bridge (Python)",
+              drive_json["via_paho_bridge"], std::to_string(drives.paho.missed));
+  latency_row("reference: drive written on wheeltecd's socket -> frame (same blocks, alternating)",
+              drive_json["direct_wheeltecd"], std::to_string(drives.direct.missed));
+  latency_row("reference: the same message published -> a plain subscriber's callback (the broker's hop, in both "
+              "bridges' figures; same blocks)",
+              drive_json["broker_hop"], std::to_string(drives.broker_hop.missed));
   if (!settings.serial) {
-    std::cout << "| 0x103 frame on the bus -> record at the MQTT subscriber, nobody driving | "
-              << p50_p99(telemetry["via_mqtt"]) << " | " << telemetry["via_mqtt"]["count"] << " | " << figures.via_mqtt.lost()
-              << " of " << figures.via_mqtt.on_bus << " |\n";
-    std::cout << "| reference: 0x103 frame -> notification at a direct wheeltecd subscriber | "
-              << p50_p99(telemetry["direct_wheeltecd_subscriber"]) << " | "
-              << telemetry["direct_wheeltecd_subscriber"]["count"] << " | " << figures.direct.lost() << " of " << figures.direct.on_bus
-              << " |\n";
-    std::cout << "| 0x103 frame -> MQTT subscriber, while driving (" << us(1000.0 / settings.drive_interval_ms)
-              << " drives/s) | " << p50_p99(telemetry["via_mqtt_while_driving"]) << " | "
-              << telemetry["via_mqtt_while_driving"]["count"] << " | " << while_driving.lost() << " of "
-              << while_driving.on_bus << " |\n";
+    latency_row("0x103 frame on the bus -> record at the MQTT subscriber, nobody driving", telemetry["via_mqtt"],
+                lost_of(figures.via_mqtt));
+    latency_row("reference: 0x103 frame -> notification at a direct wheeltecd subscriber",
+                telemetry["direct_wheeltecd_subscriber"], lost_of(figures.direct));
+    latency_row("0x103 frame -> MQTT subscriber, while driving (" + us(1000.0 / settings.drives.interval_ms) + " drives/s)",
+                telemetry["via_mqtt_while_driving"], lost_of(while_driving));
   }
   std::cout << "\n";
   {
@@ -901,20 +711,10 @@ int measure(const Settings& settings, const fs::path& work) {
         cpu["mosquitto_us_per_record"].get<double>(), cpu["emulator_us_per_record"].get<double>(),
         cpu["machine_busy_pct"].get<double>());
     if (!syscalls.is_null()) {
-      auto listing = [](const json& per_record) {
-        std::vector<std::pair<double, std::string>> calls;
-        for (const auto& [name, value] : per_record.items()) {
-          if (name != "total" && value.get<double>() >= 0.05) calls.emplace_back(value.get<double>(), name);
-        }
-        std::sort(calls.rbegin(), calls.rend());
-        std::string text;
-        for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
-        return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
-      };
       std::cout << fmt::format("| system calls per record (strace -c -f, {:.0f} s, {} records, stats every 1 s included) | |\n"
                                "|---|---|\n| wheeltec-mqtt | {} |\n| mosquitto | {} |\n\n",
                                syscalls["seconds"].get<double>(), syscalls["records"].get<std::size_t>(),
-                               listing(syscalls["bridge_per_record"]), listing(syscalls["mosquitto_per_record"]));
+                               syscall_listing(syscalls["bridge_per_record"]), syscall_listing(syscalls["mosquitto_per_record"]));
     }
     std::cout << "| robots | s | expected (20 Hz) | on the bus | delivered | lost: not accepted by wheeltecd / after it | "
                  "bridges' telemetry_dropped | "
@@ -936,44 +736,12 @@ int measure(const Settings& settings, const fs::path& work) {
                                step["mosquitto_cpu_pct"].get<double>(), step["machine_busy_pct"].get<double>());
     }
   }
-  if (!errors.empty()) {
-    std::cout << "\nErrors:\n";
-    for (const auto& error : errors) std::cout << "- " << error.get<std::string>() << "\n";
-  }
-  std::cout.flush();
-
-  if (!settings.json_path.empty()) std::ofstream(settings.json_path) << out.dump(2) << "\n";
-  return errors.empty() ? 0 : 1;
-}
-
-int run(const Settings& settings) {
-  if (!settings.work_dir.empty()) {
-    fs::create_directories(settings.work_dir);
-    return measure(settings, settings.work_dir);
-  }
-  std::string pattern = (fs::temp_directory_path() / "wheeltec-bench-mqtt.XXXXXX").string();
-  if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-  struct Remove {
-    fs::path path;
-    ~Remove() {
-      std::error_code ignored;
-      fs::remove_all(path, ignored);
-    }
-  } work{pattern};
-  return measure(settings, work.path);
+  print_errors(errors);
+  return write_figures(settings, out);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(parse_arguments(argc, argv));
-  } catch (const std::invalid_argument& error) {
-    std::cerr << "wheeltec-bench-mqtt: " << error.what() << "\n";
-    usage();
-    return 2;
-  } catch (const std::exception& error) {
-    std::cerr << "wheeltec-bench-mqtt: " << error.what() << "\n";
-    return 1;
-  }
+  return bench::bridge_main("wheeltec-bench-mqtt", kUsage, argc, argv, parse_arguments, measure);
 }

@@ -6,7 +6,6 @@
 #include <linux/if_packet.h>
 #include <net/if.h>
 #include <poll.h>
-#include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -74,24 +73,17 @@ LoopbackCapture::LoopbackCapture() {
   };
   sock_fprog program{static_cast<unsigned short>(sizeof code / sizeof code[0]), code};
   ::setsockopt(fd_, SOL_SOCKET, SO_ATTACH_FILTER, &program, sizeof program);
-  stop_fd_ = ::eventfd(0, EFD_CLOEXEC);
-  if (stop_fd_ < 0) {
-    ::close(fd_);
-    throw system_error("eventfd");
-  }
   thread_ = std::thread([this] { run(); });
 }
 
 LoopbackCapture::~LoopbackCapture() {
-  const std::uint64_t one = 1;
-  [[maybe_unused]] const auto written = ::write(stop_fd_, &one, sizeof one);
+  stop_.raise();
   thread_.join();
-  ::close(stop_fd_);
   ::close(fd_);
 }
 
 void LoopbackCapture::run() {
-  pollfd fds[2] = {{fd_, POLLIN, 0}, {stop_fd_, POLLIN, 0}};
+  pollfd fds[2] = {{fd_, POLLIN, 0}, {stop_.fd(), POLLIN, 0}};
   std::uint8_t packet[65536];
   alignas(cmsghdr) char control[256];
   for (;;) {

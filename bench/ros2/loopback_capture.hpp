@@ -24,6 +24,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "stop_signal.hpp"
+
 namespace bench {
 
 class LoopbackCapture {
@@ -46,7 +48,7 @@ class LoopbackCapture {
   void parse(const std::uint8_t* packet, std::size_t size, std::int64_t ns);
 
   int fd_ = -1;
-  int stop_fd_ = -1;
+  bench::StopSignal stop_;
   mutable std::mutex mutex_;
   std::map<std::int64_t, std::int64_t> odom_;  // stamp us -> first ns
   std::uint64_t odom_repeated_ = 0;

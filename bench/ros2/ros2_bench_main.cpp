@@ -19,14 +19,10 @@
 // cmd_vel or odom datagram on loopback (bench/ros2/loopback_capture.hpp).
 // Prints markdown tables on stdout and writes every figure as JSON (--json).
 
-#include <poll.h>
-#include <stdlib.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -35,26 +31,20 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <unordered_map>
 #include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/asio_can/frame_io.hpp"
-
 #include "bench_clock.hpp"
 #include "bench_figures.hpp"
+#include "bridge_bench.hpp"
 #include "bus_observer.hpp"
-#include "can_endpoint.hpp"
-#include "child_program.hpp"
-#include "fleet_processes.hpp"
 #include "latency_stats.hpp"
 #include "loopback_capture.hpp"
 #include "process_profile.hpp"
 #include "ros2_peer.hpp"
-#include "subscriber_set.hpp"
 
 namespace {
 
@@ -65,98 +55,43 @@ using std::chrono::milliseconds;
 
 constexpr const char* kInterface = "vcan0";
 
-struct Settings {
-  FleetPrograms programs;  // mosquitto unused
-  std::string json_path;
-  std::string work_dir;  // default: a new directory in /tmp, removed at the end
-  double telemetry_s = 20.0;
-  int drives = 300;  // cmd_vel, and as many drives on the daemon's socket
-  int drive_block = 50;
-  double drive_interval_ms = 100.0;  // teleop repeats its Twist at 10 Hz
+struct Settings : BridgeSettings {  // mosquitto and the paho bridge unused
   int domain_id = 42;
   bool all_readers = false;  // imu and tf read too, not odom alone
   bool best_effort_readers = false;  // odom (and imu, tf) read as robot_localization does: sensor data QoS
-  bool quick = false;
-  std::string strace;  // given: the bridge's system calls per record counted
 };
 
-void usage() {
-  std::cout << "usage: wheeltec-bench-ros2 --wheeltecd PATH --emulator PATH --bridge PATH (wheeltec-ros2)\n"
-               "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
-               "       [--drive-interval-ms MS] [--domain-id N] [--all-readers] [--best-effort-readers] [--strace PATH]\n"
-               "Readers: odom (--all-readers: odom, imu and tf), RELIABLE KEEP_LAST 10 as a default rclcpp\n"
-               "subscriber (imu with sensor data QoS); --best-effort-readers: all with sensor data QoS (BEST_EFFORT).\n"
-               "Runs where vcan0 exists and loopback is up (scripts/vcan-run); see scripts/bench-ros2.sh.\n"
-               "ROS_DOMAIN_ID, ROS_LOCALHOST_ONLY, ROS_AUTOMATIC_DISCOVERY_RANGE, CYCLONEDDS_URI and\n"
-               "FASTRTPS_DEFAULT_PROFILES_FILE are ignored (unset for the bridge and this program's participant).\n";
-}
+constexpr const char* kUsage =
+    "usage: wheeltec-bench-ros2 --wheeltecd PATH --emulator PATH --bridge PATH (wheeltec-ros2)\n"
+    "       [--json OUT] [--work-dir DIR] [--quick] [--telemetry-seconds S] [--drives N]\n"
+    "       [--drive-interval-ms MS] [--domain-id N] [--all-readers] [--best-effort-readers] [--strace PATH]\n"
+    "Readers: odom (--all-readers: odom, imu and tf), RELIABLE KEEP_LAST 10 as a default rclcpp\n"
+    "subscriber (imu with sensor data QoS); --best-effort-readers: all with sensor data QoS (BEST_EFFORT).\n"
+    "Runs where vcan0 exists and loopback is up (scripts/vcan-run); see scripts/bench-ros2.sh.\n"
+    "ROS_DOMAIN_ID, ROS_LOCALHOST_ONLY, ROS_AUTOMATIC_DISCOVERY_RANGE, CYCLONEDDS_URI and\n"
+    "FASTRTPS_DEFAULT_PROFILES_FILE are ignored (unset for the bridge and this program's participant).\n";
 
-Settings parse_arguments(int argc, char** argv) {
+Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) {
   Settings s;
-  bool telemetry_given = false, drives_given = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string key = argv[i];
-    if (key == "--help" || key == "-h") {
-      usage();
-      std::exit(0);
-    }
-    if (key == "--quick") {
-      s.quick = true;
-      continue;
-    }
-    if (key == "--all-readers") {
-      s.all_readers = true;
-      continue;
-    }
-    if (key == "--best-effort-readers") {
-      s.best_effort_readers = true;
-      continue;
-    }
-    if (i + 1 >= argc) throw std::invalid_argument(key + " needs a value");
-    const std::string value = argv[++i];
-    if (key == "--wheeltecd") s.programs.wheeltecd = value;
-    else if (key == "--emulator") s.programs.emulator = value;
-    else if (key == "--bridge") s.programs.bridge = value;
-    else if (key == "--json") s.json_path = value;
-    else if (key == "--work-dir") s.work_dir = value;
-    else if (key == "--telemetry-seconds") s.telemetry_s = std::stod(value), telemetry_given = true;
-    else if (key == "--drives") s.drives = std::stoi(value), drives_given = true;
-    else if (key == "--drive-interval-ms") s.drive_interval_ms = std::stod(value);
-    else if (key == "--domain-id") s.domain_id = std::stoi(value);
-    else if (key == "--strace") s.strace = value;
-    else throw std::invalid_argument("unknown option " + key);
-  }
-  if (s.quick) {
-    if (!telemetry_given) s.telemetry_s = 3.0;
-    if (!drives_given) s.drives = 20;
-    s.drive_block = 10;
-  }
+  add_bridge_options(command_line, s);
+  command_line.value("--domain-id", s.domain_id);
+  command_line.flag("--all-readers", s.all_readers);
+  command_line.flag("--best-effort-readers", s.best_effort_readers);
+  command_line.parse(argc, argv);
+  finish_bridge_options(command_line, s, {.telemetry_s = 3.0, .drives = 20, .drive_block = 10});
   if (s.programs.wheeltecd.empty() || s.programs.emulator.empty() || s.programs.bridge.empty()) {
     throw std::invalid_argument("--wheeltecd, --emulator and --bridge are required");
   }
-  if (s.drives < 2 || s.telemetry_s <= 0 || s.drive_interval_ms <= 0) throw std::invalid_argument("nothing to measure");
   if (s.domain_id < 0 || s.domain_id > 232) throw std::invalid_argument("--domain-id: 0 to 232");
   return s;
 }
 
-void sleep_ms(double ms) { std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(ms * 1000))); }
-
-// ---- telemetry: bus frames matched with what a reader received ----
-
 // ---- /proc ----
-
-int threads_of(pid_t pid) {
-  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-  for (std::string line; std::getline(status, line);) {
-    if (line.rfind("Threads:", 0) == 0) return std::stoi(line.substr(8));
-  }
-  return 0;
-}
 
 json memory_json(pid_t pid) {
   try {
     const ProcessSample sample = sample_process(pid);
-    return {{"rss_kib", sample.rss_kib}, {"hwm_kib", sample.hwm_kib}, {"threads", threads_of(pid)}};
+    return {{"rss_kib", sample.rss_kib}, {"hwm_kib", sample.hwm_kib}, {"threads", sample.threads}};
   } catch (const std::exception&) {
     return {{"rss_kib", 0}, {"hwm_kib", 0}, {"threads", 0}};
   }
@@ -229,14 +164,6 @@ json daemon_counters(const fs::path& socket) {
   }
 }
 
-json counters_delta(const json& before, const json& after) {
-  json delta = json::object();
-  for (const auto& [key, value] : after.items()) {
-    if (value.is_number_unsigned() && before.contains(key)) delta[key] = value.get<std::uint64_t>() - before[key].get<std::uint64_t>();
-  }
-  return delta;
-}
-
 // The lines of a program's log at level warn or above (the first `most`).
 json log_warnings(const fs::path& log, std::size_t most = 10) {
   json lines = json::array();
@@ -249,99 +176,28 @@ json log_warnings(const fs::path& log, std::size_t most = 10) {
 
 // ---- drives ----
 
-struct DriveSeries {
-  std::vector<double> latency_us;
-  struct Timed {
-    int mm_per_s;
-    std::int64_t sent_ns, frame_ns;
-  };
-  std::vector<Timed> timed;  // each counted drive that reached the bus
-  int missed = 0;  // no frame with the velocity within 1 s
-  json to_json() const {
-    json j = summarize(latency_us).to_json();
-    j["missed"] = missed;
-    j["samples_us"] = samples_json(latency_us);
-    return j;
-  }
-};
-
-
 struct DriveResults {
   DriveSeries ros2, direct;
   std::vector<std::string> first_errors;
 };
 
 DriveResults measure_drives(const Settings& settings, Robot& robot, Ros2Peer& peer) {
-  CanEndpoint control(kInterface, {0x121});
+  CanCommandFrames frames(kInterface);
   LineClient stopper(robot.socket());  // any client's `stop` releases control, the bridge's too
   DriveResults results;
-  int id = 0;
-  int mm_direct = 100, mm_ros2 = 300;  // each drive a new target: the daemon sends its frame at once
-  auto next_mm = [](int& mm, int base) { return mm = base + (mm - base + 1) % 100; };
-
-  auto ros2_drive = [&](bool counted) {
-    const int mm = next_mm(mm_ros2, 300);
-    drain(control);
-    const std::int64_t sent = peer.publish_cmd_vel(mm / 1000.0);
-    const auto frame = wait_for_control_frame(control, mm);
-    if (!counted) return;
-    if (frame) {
-      results.ros2.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
-      results.ros2.timed.push_back({mm, sent, *frame});
-    } else {
-      ++results.ros2.missed;
-    }
-  };
-  auto direct_drive = [&](LineClient& client, bool counted) {
-    const int mm = next_mm(mm_direct, 100);
-    drain(control);
-    const std::string line = fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{:.3f}}}}})",
-                                         ++id, mm / 1000.0);
-    const std::int64_t sent = realtime_ns();
-    client.send_line(line);
-    const auto frame = wait_for_control_frame(control, mm);
-    const std::string reply = client.read_line(2000);
-    if (reply.find("\"result\"") == std::string::npos && results.first_errors.size() < 5) {
-      results.first_errors.push_back("direct drive: " + reply);
-    }
-    if (!counted) return;
-    if (frame) results.direct.latency_us.push_back(static_cast<double>(*frame - sent) / 1e3);
-    else ++results.direct.missed;
-  };
-  auto paced = [&](int count, auto&& one) {
-    const auto start = std::chrono::steady_clock::now();
-    for (int i = 0; i < count; ++i) {
-      std::this_thread::sleep_until(start + std::chrono::microseconds(static_cast<long long>(i * settings.drive_interval_ms * 1000)));
-      one();
-    }
-  };
-  auto stop = [&](LineClient& client) {
-    client.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"stop"}})", ++id));
-    const std::string reply = client.read_line(2000);
-    if (reply.find("\"result\"") == std::string::npos && results.first_errors.size() < 5) {
-      results.first_errors.push_back("stop: " + reply);
-    }
-  };
-
-  // Warm-up: the bridge opens its driving connection to the daemon on its first cmd_vel.
-  paced(3, [&] { ros2_drive(false); });
-  stop(stopper);
-  {
-    LineClient client(robot.socket());
-    paced(3, [&] { direct_drive(client, false); });
-    stop(client);
-  }
-  // Alternating blocks, so that both paths see the same load on the host.
-  for (int done = 0; done < settings.drives; done += settings.drive_block) {
-    const int n = std::min(settings.drive_block, settings.drives - done);
-    {
-      LineClient client(robot.socket());
-      paced(n, [&] { direct_drive(client, true); });
-      stop(client);
-    }  // closed: control released
-    paced(n, [&] { ros2_drive(true); });
-    stop(stopper);
-  }
+  SocketDrives direct(robot.socket(), frames, results.first_errors);
+  int mm_ros2 = 300;
+  DrivePath ros2{[&](bool counted) {
+                   const int target = next_target(mm_ros2, 300);
+                   frames.drain();
+                   const std::int64_t sent = peer.publish_cmd_vel(target / 1000.0);
+                   const auto frame = frames.first_with(target);
+                   if (counted) results.ros2.add(target, sent, frame);
+                 },
+                 [&] { direct.stop_on(stopper); }};
+  // The bridge opens its driving connection to the daemon on its first cmd_vel, in the warm-up.
+  std::vector<DrivePath> paths{std::move(ros2), direct.path(results.direct)};
+  drive_in_alternating_blocks(paths, settings.drives);
   return results;
 }
 
@@ -396,22 +252,6 @@ Split split_drives(const std::vector<DriveSeries::Timed>& drives, const std::vec
   return split;
 }
 
-// ---- formatting ----
-
-std::string us(double value) { return fmt::format("{:.0f}", value); }
-std::string mib(const json& j, const char* key) { return fmt::format("{:.2f}", j.value(key, 0.0) / 1024.0); }
-
-std::string syscall_listing(const json& per_record) {
-  std::vector<std::pair<double, std::string>> calls;
-  for (const auto& [name, value] : per_record.items()) {
-    if (name != "total" && value.get<double>() >= 0.05) calls.emplace_back(value.get<double>(), name);
-  }
-  std::sort(calls.rbegin(), calls.rend());
-  std::string text;
-  for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
-  return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
-}
-
 // ---- the run ----
 
 std::string logs(Robot& robot, ChildProgram* bridge) {
@@ -421,19 +261,13 @@ std::string logs(Robot& robot, ChildProgram* bridge) {
 // Everything that runs: the programs end (in reverse order of their start) when it returns.
 int measure(const Settings& settings, const fs::path& work) {
   const auto started = std::chrono::steady_clock::now();
-  json out;
+  json out = start_figures(
+      settings, {{"domain_id", settings.domain_id},
+                 {"readers", settings.all_readers ? json{"odom", "imu", "tf"} : json{"odom"}},
+                 {"cmd_vel_writer", "RELIABLE, KEEP_LAST 10, VOLATILE"},
+                 {"odom_reader", settings.best_effort_readers ? "BEST_EFFORT, KEEP_LAST 5, VOLATILE (sensor data)"
+                                                              : "RELIABLE, KEEP_LAST 10, VOLATILE (default)"}});
   json errors = json::array();
-  out["machine"] = machine_json();
-  out["settings"] = {{"quick", settings.quick},
-                     {"telemetry_seconds", settings.telemetry_s},
-                     {"drives", settings.drives},
-                     {"drive_block", settings.drive_block},
-                     {"drive_interval_ms", settings.drive_interval_ms},
-                     {"domain_id", settings.domain_id},
-                     {"readers", settings.all_readers ? json{"odom", "imu", "tf"} : json{"odom"}},
-                     {"cmd_vel_writer", "RELIABLE, KEEP_LAST 10, VOLATILE"},
-                     {"odom_reader", settings.best_effort_readers ? "BEST_EFFORT, KEEP_LAST 5, VOLATILE (sensor data)"
-                                                               : "RELIABLE, KEEP_LAST 10, VOLATILE (default)"}};
 
   // The bridge and the participant here: loopback only, on the domain given, whatever the
   // environment says.
@@ -477,15 +311,10 @@ int measure(const Settings& settings, const fs::path& work) {
   const json counters0 = daemon_counters(robot.socket());
   const json udp0 = udp_counters();
   const json traffic0 = capture ? capture->counts() : json::object();
-  const std::int64_t t0 = realtime_ns();
-  const double bridge0 = cpu_s(bridge.pid()), daemon0 = cpu_s(robot.daemon().pid()),
-               emulator0 = cpu_s(robot.emulator().pid()), self0 = cpu_s(::getpid());
-  const MachineCpu machine0 = machine_cpu();
+  CpuWindow window({bridge.pid(), robot.daemon().pid(), robot.emulator().pid(), ::getpid()});
   sleep_ms(settings.telemetry_s * 1000);
-  const std::int64_t t1 = realtime_ns();
-  const double bridge1 = cpu_s(bridge.pid()), daemon1 = cpu_s(robot.daemon().pid()),
-               emulator1 = cpu_s(robot.emulator().pid()), self1 = cpu_s(::getpid());
-  const MachineCpu machine1 = machine_cpu();
+  window.close();
+  const std::int64_t t0 = window.from_ns, t1 = window.to_ns;
   const json counters1 = daemon_counters(robot.socket());
   const json udp1 = udp_counters();
   const json traffic1 = capture ? capture->counts() : json::object();
@@ -494,11 +323,9 @@ int measure(const Settings& settings, const fs::path& work) {
   const auto odom = peer.odom_receipts();
   const TelemetryMatch via_ros2 = match_records(frames, odom, t0, t1);
   const TelemetryMatch direct = match_records(frames, observer.direct_notifications(), t0, t1);
-  std::size_t published = 0;  // records the bridge published in the window: odom samples received in it
-  for (const auto& [time_us, arrival_ns] : odom) {
-    if (arrival_ns >= t0 && arrival_ns < t1) ++published;
-  }
-  const double window_s = static_cast<double>(t1 - t0) / 1e9;
+  // Records the bridge published in the window: odom samples received in it.
+  const std::size_t published = received_between(odom, t0, t1);
+  const double window_s = window.seconds();
   auto per_record_us = [&](double cpu) { return published == 0 ? 0.0 : cpu / static_cast<double>(published) * 1e6; };
   json telemetry = {{"window_s", window_s},
                     {"via_ros2", match_json(via_ros2, true)},
@@ -510,12 +337,12 @@ int measure(const Settings& settings, const fs::path& work) {
               {"records_published", published},
               {"imu_samples", peer.imu_samples(t0, t1)},
               {"tf_samples", peer.tf_samples(t0, t1)},
-              {"bridge_cpu_s", bridge1 - bridge0},
-              {"bridge_us_per_record", per_record_us(bridge1 - bridge0)},
-              {"wheeltecd_us_per_record", per_record_us(daemon1 - daemon0)},
-              {"emulator_us_per_record", per_record_us(emulator1 - emulator0)},
-              {"benchmark_us_per_record", per_record_us(self1 - self0)},
-              {"machine_busy_pct", busy_pct(machine0, machine1)}};
+              {"bridge_cpu_s", window.cpu_s(0)},
+              {"bridge_us_per_record", per_record_us(window.cpu_s(0))},
+              {"wheeltecd_us_per_record", per_record_us(window.cpu_s(1))},
+              {"emulator_us_per_record", per_record_us(window.cpu_s(2))},
+              {"benchmark_us_per_record", per_record_us(window.cpu_s(3))},
+              {"machine_busy_pct", window.busy_pct()}};
   if (capture) {
     telemetry["via_ros2_split"] =
         split_telemetry(frames, odom, capture->odom_sent(), t0, t1).to_json("bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader");
@@ -530,36 +357,24 @@ int measure(const Settings& settings, const fs::path& work) {
     const double seconds = settings.quick ? 2.0 : std::min(10.0, settings.telemetry_s);
     std::cerr << "wheeltec-bench-ros2: system calls, " << seconds << " s under strace -c\n";
     try {
-      SyscallCount bridge_calls(settings.strace, bridge.pid(), work, "wheeltec-ros2");
-      const std::int64_t c0 = realtime_ns();
-      sleep_ms(seconds * 1000);
-      const std::int64_t c1 = realtime_ns();
-      const auto counts = bridge_calls.stop();
-      sleep_ms(500);
-      std::size_t records = 0;
-      for (const auto& [time_us, arrival_ns] : peer.odom_receipts()) {
-        if (arrival_ns >= c0 && arrival_ns < c1) ++records;
-      }
-      json per_record = json::object();
-      for (const auto& [name, calls] : counts) {
-        per_record[name] = records == 0 ? 0.0 : static_cast<double>(calls) / static_cast<double>(records);
-      }
-      syscalls = {{"seconds", static_cast<double>(c1 - c0) / 1e9}, {"records", records}, {"bridge_per_record", per_record}};
-      if (records == 0) errors.push_back("no odom sample while the system calls were counted");
+      syscalls = syscalls_per_record(settings.strace, work, seconds, {{"wheeltec-ros2", "bridge_per_record", bridge.pid()}},
+                                     sleep_ms, [&](std::int64_t from_ns, std::int64_t to_ns) {
+                                       return received_between(peer.odom_receipts(), from_ns, to_ns);
+                                     });
+      if (syscalls["records"] == 0) errors.push_back("no odom sample while the system calls were counted");
     } catch (const std::exception& error) {
       errors.push_back(std::string("strace: ") + error.what());
     }
   }
 
   // ---- drives: cmd_vel over DDS and drive on the daemon's socket ----
-  std::cerr << "wheeltec-bench-ros2: " << settings.drives << " cmd_vel over DDS and as many drives on the daemon's socket\n";
+  std::cerr << "wheeltec-bench-ros2: " << settings.drives.drives << " cmd_vel over DDS and as many drives on the daemon's socket\n";
   const json counters2 = daemon_counters(robot.socket());
   const json udp2 = udp_counters();
-  const std::int64_t d0 = realtime_ns();
-  const double bridge_d0 = cpu_s(bridge.pid());
+  CpuWindow driving({bridge.pid()});
   const DriveResults drives = measure_drives(settings, robot, peer);
-  const std::int64_t d1 = realtime_ns();
-  const double bridge_d1 = cpu_s(bridge.pid());
+  driving.close();
+  const std::int64_t d0 = driving.from_ns, d1 = driving.to_ns;
   const json counters3 = daemon_counters(robot.socket());
   const json udp3 = udp_counters();
   sleep_ms(1000);
@@ -589,17 +404,14 @@ int measure(const Settings& settings, const fs::path& work) {
   const json memory = {{"wheeltec_ros2", memory_json(bridge.pid())}, {"wheeltecd", memory_json(robot.daemon().pid())}};
   // While driving: the bridge's CPU over the drives (its cmd_vel and their drives included) per
   // odom sample it published meanwhile.
-  std::size_t published_driving = 0;
-  for (const auto& [time_us, arrival_ns] : peer.odom_receipts()) {
-    if (arrival_ns >= d0 && arrival_ns < d1) ++published_driving;
-  }
+  const std::size_t published_driving = received_between(peer.odom_receipts(), d0, d1);
   cpu["while_driving"] = {
       {"seconds", static_cast<double>(d1 - d0) / 1e9},
-      {"bridge_cpu_s", bridge_d1 - bridge_d0},
+      {"bridge_cpu_s", driving.cpu_s(0)},
       {"records_published", published_driving},
-      {"cmd_vel_published", settings.drives + 3},
+      {"cmd_vel_published", settings.drives.drives + 3},
       {"bridge_us_per_record",
-       published_driving == 0 ? 0.0 : (bridge_d1 - bridge_d0) / static_cast<double>(published_driving) * 1e6}};
+       published_driving == 0 ? 0.0 : driving.cpu_s(0) / static_cast<double>(published_driving) * 1e6}};
   if (memory["wheeltec_ros2"]["rss_kib"].get<std::uint64_t>() == 0) errors.push_back("no VmRSS of wheeltec-ros2");
   const json diagnostics = peer.last_diagnostics();
   const json udp_drops = udp_drops_by_process({{"wheeltec_ros2", bridge.pid()}, {"benchmark_fast_dds_side", ::getpid()}});
@@ -622,17 +434,14 @@ int measure(const Settings& settings, const fs::path& work) {
     std::ofstream odom_out(work / "odom.txt");
     for (const auto& [time_us, arrival_ns] : peer.odom_receipts()) odom_out << time_us << " " << arrival_ns << "\n";
   }
-  out["errors"] = errors;
-  out["load_average_at_end"] = load_average();
-  out["elapsed_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  close_figures(out, errors, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 
   // ---- the tables ----
   const bool uml = out["machine"]["user_mode_linux"].get<bool>();
   std::cout << "| wheeltec-ros2 (" << (uml ? "User-Mode Linux, " : "") << "Fast DDS 2.9 peer on loopback, "
             << (settings.best_effort_readers ? "BEST_EFFORT" : "RELIABLE") << " odom reader) | p50 / p99 (us) | n | lost or missed |\n|---|---|---|---|\n";
-  std::cout << "| cmd_vel published (RELIABLE writer) -> first 0x121 frame with its velocity | "
-            << p50_p99(drive_json["via_ros2"]) << " | " << drive_json["via_ros2"]["count"] << " | "
-            << drives.ros2.missed << " |\n";
+  latency_row("cmd_vel published (RELIABLE writer) -> first 0x121 frame with its velocity", drive_json["via_ros2"],
+              std::to_string(drives.ros2.missed));
   auto split_row = [](const json& parent, const char* key, const char* first, const char* second, const std::string& label) {
     if (!parent.contains(key)) return;
     const json& split = parent[key];
@@ -642,28 +451,21 @@ int measure(const Settings& settings, const fs::path& work) {
   split_row(drive_json, "via_ros2_split", "publish_to_dds_data_on_lo", "dds_data_on_lo_to_frame",
             "split at the cmd_vel datagram on lo: publish -> datagram (Fast DDS writer) and datagram -> frame "
             "(wheeltec-ros2 and wheeltecd)");
-  std::cout << "| reference: drive written on wheeltecd's socket -> frame (same blocks, alternating) | "
-            << p50_p99(drive_json["direct_wheeltecd"]) << " | " << drive_json["direct_wheeltecd"]["count"] << " | "
-            << drives.direct.missed << " |\n";
-  std::cout << "| 0x103 frame on the bus -> odom at the Fast DDS reader, nobody driving | "
-            << p50_p99(telemetry["via_ros2"]) << " | " << telemetry["via_ros2"]["count"] << " | " << via_ros2.lost()
-            << " of " << via_ros2.on_bus << " |\n";
+  latency_row("reference: drive written on wheeltecd's socket -> frame (same blocks, alternating)",
+              drive_json["direct_wheeltecd"], std::to_string(drives.direct.missed));
+  latency_row("0x103 frame on the bus -> odom at the Fast DDS reader, nobody driving", telemetry["via_ros2"],
+              lost_of(via_ros2));
   split_row(telemetry, "via_ros2_split", "bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader",
             "split at the odom datagram on lo: frame -> datagram (wheeltecd and wheeltec-ros2) and datagram -> "
             "reader (Fast DDS)");
-  std::cout << "| reference: 0x103 frame -> notification at a direct wheeltecd subscriber | "
-            << p50_p99(telemetry["direct_wheeltecd_subscriber"]) << " | "
-            << telemetry["direct_wheeltecd_subscriber"]["count"] << " | " << direct.lost() << " of " << direct.on_bus
-            << " |\n";
-  std::cout << "| 0x103 frame -> odom, while driving (" << us(1000.0 / settings.drive_interval_ms) << " cmd_vel/s) | "
-            << p50_p99(telemetry["via_ros2_while_driving"]) << " | " << telemetry["via_ros2_while_driving"]["count"]
-            << " | " << while_driving.lost() << " of " << while_driving.on_bus << " |\n";
+  latency_row("reference: 0x103 frame -> notification at a direct wheeltecd subscriber",
+              telemetry["direct_wheeltecd_subscriber"], lost_of(direct));
+  latency_row("0x103 frame -> odom, while driving (" + us(1000.0 / settings.drives.interval_ms) + " cmd_vel/s)",
+              telemetry["via_ros2_while_driving"], lost_of(while_driving));
   split_row(telemetry, "via_ros2_while_driving_split", "bus_to_dds_data_on_lo", "dds_data_on_lo_to_reader",
             "split at the odom datagram on lo, while driving");
-  std::cout << "| reference: 0x103 frame -> direct wheeltecd subscriber, while driving | "
-            << p50_p99(telemetry["direct_wheeltecd_subscriber_while_driving"]) << " | "
-            << telemetry["direct_wheeltecd_subscriber_while_driving"]["count"] << " | " << direct_while_driving.lost()
-            << " of " << direct_while_driving.on_bus << " |\n";
+  latency_row("reference: 0x103 frame -> direct wheeltecd subscriber, while driving",
+              telemetry["direct_wheeltecd_subscriber_while_driving"], lost_of(direct_while_driving));
   auto counters_text = [](const json& delta) {
     return fmt::format("{} / {} / {}", delta.value("records_accepted", std::uint64_t{0}),
                        delta.value("groups_discarded", std::uint64_t{0}),
@@ -719,10 +521,7 @@ int measure(const Settings& settings, const fs::path& work) {
     std::cout << fmt::format("| the bridge's counters (diagnostics): cmd_vel_received / drives_refused | {} / {} |\n",
                              values.value("cmd_vel_received", "?"), values.value("drives_refused", "?"));
   }
-  if (!errors.empty()) {
-    std::cout << "\nErrors:\n";
-    for (const auto& error : errors) std::cout << "- " << error.get<std::string>() << "\n";
-  }
+  print_errors(errors);
   if (!out["bridge_log_warnings"].empty()) {
     std::cout << "\nwheeltec-ros2 logged (first " << out["bridge_log_warnings"].size() << " warnings):\n";
     for (const auto& line : out["bridge_log_warnings"]) std::cout << "- `" << line.get<std::string>() << "`\n";
@@ -731,40 +530,11 @@ int measure(const Settings& settings, const fs::path& work) {
     std::cout << "\nFirst error replies:\n";
     for (const auto& error : drives.first_errors) std::cout << "- " << error << "\n";
   }
-  std::cout.flush();
-
-  if (!settings.json_path.empty()) std::ofstream(settings.json_path) << out.dump(2) << "\n";
-  return errors.empty() ? 0 : 1;
-}
-
-int run(const Settings& settings) {
-  if (!settings.work_dir.empty()) {
-    fs::create_directories(settings.work_dir);
-    return measure(settings, settings.work_dir);
-  }
-  std::string pattern = (fs::temp_directory_path() / "wheeltec-bench-ros2.XXXXXX").string();
-  if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-  struct Remove {
-    fs::path path;
-    ~Remove() {
-      std::error_code ignored;
-      fs::remove_all(path, ignored);
-    }
-  } work{pattern};
-  return measure(settings, work.path);
+  return write_figures(settings, out);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(parse_arguments(argc, argv));
-  } catch (const std::invalid_argument& error) {
-    std::cerr << "wheeltec-bench-ros2: " << error.what() << "\n";
-    usage();
-    return 2;
-  } catch (const std::exception& error) {
-    std::cerr << "wheeltec-bench-ros2: " << error.what() << "\n";
-    return 1;
-  }
+  return bench::bridge_main("wheeltec-bench-ros2", kUsage, argc, argv, parse_arguments, measure);
 }

@@ -29,15 +29,17 @@ cleanup() {
 }
 trap cleanup EXIT
 port=18090
+# Every program with a default configuration file reads this empty one instead: never the host's /etc.
+echo '{}' >"$work/empty.json"
 
 [[ ${link[0]} == --serial ]] && link=(--serial "$work/tty")
 "$build/emulator/wheeltec-emu" "${link[@]}" --boot-delay 0 --no-self-test --telemetry-hz "$hz" \
   >"$work/emu.log" 2>&1 &
 pids+=($!)
 for _ in $(seq 50); do [[ ${link[0]} != --serial || -e $work/tty ]] && break; sleep 0.1; done
-"$build/daemon/wheeltecd" "${link[@]}" --socket "$work/wheeltecd.sock" --log-level warn >"$work/daemon.log" 2>&1 &
+"$build/daemon/wheeltecd" --config "$work/empty.json" "${link[@]}" --socket "$work/wheeltecd.sock" --log-level warn >"$work/daemon.log" 2>&1 &
 pids+=($!)
-"$build/web/wheeltec-web" --socket "$work/wheeltecd.sock" --listen "127.0.0.1:$port" --page-dir "$repo/web/page" \
+"$build/web/wheeltec-web" --config "$work/empty.json" --socket "$work/wheeltecd.sock" --listen "127.0.0.1:$port" --page-dir "$repo/web/page" \
   --log-level warn >"$work/web.log" 2>&1 &
 web_pid=$!
 pids+=("$web_pid")
@@ -46,7 +48,7 @@ openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:P-256 -nodes -days 1 -su
   -addext subjectAltName=IP:127.0.0.1 -keyout "$work/key.pem" -out "$work/cert.pem" 2>/dev/null
 chmod 0600 "$work/key.pem"
 tls_port=$((port + 1))
-"$build/web/wheeltec-web" --socket "$work/wheeltecd.sock" --listen "127.0.0.1:$tls_port" --page-dir "$repo/web/page" \
+"$build/web/wheeltec-web" --config "$work/empty.json" --socket "$work/wheeltecd.sock" --listen "127.0.0.1:$tls_port" --page-dir "$repo/web/page" \
   --tls-cert "$work/cert.pem" --tls-key "$work/key.pem" --log-level warn >"$work/web-tls.log" 2>&1 &
 tls_web_pid=$!
 pids+=("$tls_web_pid")

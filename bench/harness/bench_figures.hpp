@@ -49,5 +49,22 @@ nlohmann::json machine_json();
 
 // "p50 / p99" of a latency summary's JSON in whole microseconds, "-" without samples.
 std::string p50_p99(const nlohmann::json& summary);
+// A row of a latency table, "| label | p50 / p99 | n | lost |", on stdout; and a match's "LOST of ON_BUS".
+void latency_row(const std::string& label, const nlohmann::json& summary, const std::string& lost);
+std::string lost_of(const TelemetryMatch& match);
+// Counters between two samples (a gateway's `stats`, /proc): the difference of each unsigned
+// number in both, and of each object of counts by reason, those that changed.
+nlohmann::json counters_delta(const nlohmann::json& before, const nlohmann::json& after);
+// A figure in whole microseconds; kibibytes of `key` in MiB with 2 decimals.
+std::string us(double value);
+std::string mib(const nlohmann::json& j, const char* key);
+// "TOTAL (NAME N, ...)": system calls per record, the most frequent first, those under 0.05 left out.
+std::string syscall_listing(const nlohmann::json& per_record);
+// A markdown table printed on stdout and kept in the figures as `table_markdown`, the figures
+// written to `json_path` when given.
+void publish_table(const std::string& table, nlohmann::json& out, const std::string& json_path);
+// The run's errors after its tables, if any.
+void print_errors(const nlohmann::json& errors);
+void sleep_ms(double ms);
 
 }  // namespace bench

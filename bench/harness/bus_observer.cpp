@@ -1,7 +1,6 @@
 #include "bus_observer.hpp"
 
 #include <poll.h>
-#include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -58,23 +57,19 @@ BusObserver::BusObserver(const std::vector<std::string>& interfaces,
     const std::string reply = direct_->read_line(5000);
     if (reply.find("\"result\"") == std::string::npos) throw std::runtime_error("direct subscription refused: " + reply);
   }
-  stop_fd_ = ::eventfd(0, EFD_CLOEXEC);
-  if (stop_fd_ < 0) throw std::runtime_error(std::string("eventfd: ") + std::strerror(errno));
   thread_ = std::thread([this] { run(); });
 }
 
 BusObserver::~BusObserver() {
-  const std::uint64_t one = 1;
-  [[maybe_unused]] const auto written = ::write(stop_fd_, &one, sizeof one);
+  stop_.raise();
   thread_.join();
-  ::close(stop_fd_);
 }
 
 void BusObserver::run() {
   std::vector<pollfd> fds;
   for (const auto& socket : sockets_) fds.push_back(pollfd{socket->fd(), POLLIN, 0});
   if (direct_) fds.push_back(pollfd{direct_->fd(), POLLIN, 0});
-  fds.push_back(pollfd{stop_fd_, POLLIN, 0});
+  fds.push_back(pollfd{stop_.fd(), POLLIN, 0});
   for (;;) {
     if (::poll(fds.data(), fds.size(), -1) < 0) {
       if (errno == EINTR) continue;

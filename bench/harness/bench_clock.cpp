@@ -1,8 +1,10 @@
 #include "bench_clock.hpp"
 
+#include <sys/timerfd.h>
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -20,6 +22,23 @@ std::int64_t realtime_ns() {
   timespec ts{};
   clock_gettime(CLOCK_REALTIME, &ts);
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+double thread_cpu_s(clockid_t clock) {
+  timespec t{};
+  ::clock_gettime(clock, &t);
+  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
+}
+
+int periodic_timer(double rate_hz, long min_interval_ns, int flags) {
+  const int timer = ::timerfd_create(CLOCK_MONOTONIC, flags);
+  const long interval_ns = std::max(min_interval_ns, static_cast<long>(1e9 / rate_hz));
+  itimerspec spec{};
+  spec.it_interval.tv_sec = interval_ns / 1'000'000'000L;
+  spec.it_interval.tv_nsec = interval_ns % 1'000'000'000L;
+  spec.it_value = spec.it_interval;
+  ::timerfd_settime(timer, 0, &spec, nullptr);
+  return timer;
 }
 
 ProcessSample sample_process(pid_t pid) {
@@ -52,6 +71,7 @@ ProcessSample sample_process(pid_t pid) {
     if (key == "nonvoluntary_ctxt_switches:") sample.involuntary_switches = value;
     if (key == "VmRSS:") sample.rss_kib = value;
     if (key == "VmHWM:") sample.hwm_kib = value;
+    if (key == "Threads:") sample.threads = value;
   }
   return sample;
 }

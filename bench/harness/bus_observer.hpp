@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "can_endpoint.hpp"
+#include "stop_signal.hpp"
 #include "subscriber_set.hpp"
 
 namespace bench {
@@ -41,7 +42,7 @@ class BusObserver {
   std::vector<std::unique_ptr<CanEndpoint>> sockets_;
   std::unique_ptr<LineClient> direct_;
   std::string direct_buffer_;
-  int stop_fd_ = -1;
+  StopSignal stop_;
   mutable std::mutex mutex_;
   std::vector<std::vector<std::int64_t>> frames_;
   std::vector<std::pair<std::int64_t, std::int64_t>> direct_notifications_;

@@ -18,6 +18,8 @@ wheeltec::RawTelemetry bench_record(int n) {
   return raw;
 }
 
+wheeltec::TelemetryGroup bench_group(int n) { return wheeltec::make_telemetry_group(wheeltec::encode_record(bench_record(n))); }
+
 void CommandLatency::append(const CommandLatency& other) {
   total.insert(total.end(), other.total.begin(), other.total.end());
   to_frame.insert(to_frame.end(), other.to_frame.begin(), other.to_frame.end());

@@ -8,7 +8,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <numeric>
 #include <stdexcept>
+
+#include "bench_clock.hpp"
 
 namespace bench {
 
@@ -128,6 +131,17 @@ bool SubscriberSet::poll_with(int extra_fd, int timeout_ms, std::vector<std::siz
     }
   }
   return extra_ready;
+}
+
+std::uint64_t SubscriberSet::read_rest(std::vector<std::size_t>& lines, std::uint64_t expected) {
+  auto received = [&] { return std::accumulate(lines.begin(), lines.end(), std::uint64_t{0}); };
+  double last_progress = now_us();
+  while (received() < expected && now_us() - last_progress < 300e3) {
+    const auto before = received();
+    poll(50, lines);
+    if (received() != before) last_progress = now_us();
+  }
+  return received();
 }
 
 nlohmann::json api_call(const std::filesystem::path& socket, const std::string& method) {

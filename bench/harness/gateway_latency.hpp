@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "wheeltec/telemetry_group.hpp"
 #include "wheeltec/telemetry_record.hpp"
 
 #include "latency_stats.hpp"
@@ -19,6 +20,8 @@ namespace bench {
 
 // A valid record at rest; `n` varies the velocity so records differ.
 wheeltec::RawTelemetry bench_record(int n);
+// Its three CAN frames.
+wheeltec::TelemetryGroup bench_group(int n);
 
 // ---- drive line written -> command frame with that target seen on the link ----
 

@@ -53,6 +53,8 @@ class SubscriberSet {
   std::vector<std::size_t> poll(int timeout_ms, std::vector<std::size_t>& lines);
   // Like poll() with an extra fd in the set (e.g. a timerfd); true if that fd is readable.
   bool poll_with(int extra_fd, int timeout_ms, std::vector<std::size_t>& lines);
+  // Reads until `lines` add up to `expected` or nothing came for 300 ms; returns their sum.
+  std::uint64_t read_rest(std::vector<std::size_t>& lines, std::uint64_t expected);
   // Call after closing the extra fd: a new one may reuse its number and must be added again.
   void forget_extra() { extra_fd_ = -1; }
 

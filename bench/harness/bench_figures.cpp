@@ -1,6 +1,9 @@
 #include "bench_figures.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <iostream>
 #include <exception>
 #include <cstdlib>
 #include <fstream>
@@ -95,5 +98,54 @@ std::string p50_p99(const nlohmann::json& summary) {
   if (summary.value("count", 0) == 0) return "-";
   return fmt::format("{:.0f} / {:.0f}", summary["p50_us"].get<double>(), summary["p99_us"].get<double>());
 }
+
+void latency_row(const std::string& label, const nlohmann::json& summary, const std::string& lost) {
+  std::cout << "| " << label << " | " << p50_p99(summary) << " | " << summary["count"].dump() << " | " << lost << " |\n";
+}
+
+std::string lost_of(const TelemetryMatch& match) { return fmt::format("{} of {}", match.lost(), match.on_bus); }
+
+nlohmann::json counters_delta(const nlohmann::json& before, const nlohmann::json& after) {
+  nlohmann::json delta = nlohmann::json::object();
+  for (const auto& [key, value] : after.items()) {
+    if (value.is_number_unsigned() && before.contains(key)) delta[key] = value.get<std::uint64_t>() - before[key].get<std::uint64_t>();
+    if (!value.is_object()) continue;
+    delta[key] = nlohmann::json::object();
+    const nlohmann::json earlier = before.value(key, nlohmann::json::object());
+    for (const auto& [reason, count] : value.items()) {
+      const auto changed = count.get<std::uint64_t>() - earlier.value(reason, std::uint64_t{0});
+      if (changed > 0) delta[key][reason] = changed;
+    }
+  }
+  return delta;
+}
+
+std::string us(double value) { return fmt::format("{:.0f}", value); }
+std::string mib(const nlohmann::json& j, const char* key) { return fmt::format("{:.2f}", j.value(key, 0.0) / 1024.0); }
+
+std::string syscall_listing(const nlohmann::json& per_record) {
+  std::vector<std::pair<double, std::string>> calls;
+  for (const auto& [name, value] : per_record.items()) {
+    if (name != "total" && value.get<double>() >= 0.05) calls.emplace_back(value.get<double>(), name);
+  }
+  std::sort(calls.rbegin(), calls.rend());
+  std::string text;
+  for (const auto& [value, name] : calls) text += fmt::format("{}{} {:.2f}", text.empty() ? "" : ", ", name, value);
+  return fmt::format("{:.2f} ({})", per_record.value("total", 0.0), text);
+}
+
+void publish_table(const std::string& table, nlohmann::json& out, const std::string& json_path) {
+  std::cout << table;
+  out["table_markdown"] = table;
+  if (!json_path.empty()) std::ofstream(json_path) << out.dump(2) << "\n";
+}
+
+void print_errors(const nlohmann::json& errors) {
+  if (errors.empty()) return;
+  std::cout << "\nErrors:\n";
+  for (const auto& error : errors) std::cout << "- " << error.get<std::string>() << "\n";
+}
+
+void sleep_ms(double ms) { std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(ms * 1000))); }
 
 }  // namespace bench
