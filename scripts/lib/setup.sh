@@ -9,6 +9,7 @@ readonly WHEELTEC_BUILD_PACKAGES=(
   libboost-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libcli11-dev libsystemd-dev
   libmosquitto-dev libssl-dev
   cyclonedds-dev cyclonedds-tools  # wheeltec-ros2's DDS, and idlc for its messages
+  ccache  # CMakeLists.txt compiles through it when installed
 )
 # What running them on a virtual CAN interface needs (the demo and the vcan tests):
 # scripts/vcan-run, natively or inside User-Mode Linux.
@@ -70,6 +71,29 @@ install_dependencies() {
   install_packages "${packages[@]}"
 }
 
+# Called by a test stage (scripts/test.d) once its build is done: with STAGE_BUILD_ONLY=1
+# the stage ends there. scripts/test.sh runs the stages that call it that way while ctest
+# runs, so that their builds use the processor time the tests leave idle.
+end_of_stage_build() {
+  if [[ ${STAGE_BUILD_ONLY:-} == 1 ]]; then
+    exit 0
+  fi
+}
+
+# ccache keeps what was compiled. Paths under this clone are hashed relative to it, so that a
+# build of another clone of the same source (a CI run after a session) can reuse it.
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$REPO_ROOT}
+export CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-true}
+
+# How these scripts configure the build trees they make from scratch (the test command's,
+# its stages', the demo's). A unity build: the sources of a target are compiled in batches
+# of 16, so that each batch parses the headers and instantiates their templates once (a
+# quarter of the processor time of file by file). RelWithDebInfo's debug information as
+# line tables only: backtraces keep function names and lines, and full debug information
+# costs a third more. A developer's own tree builds file by file unless configured so.
+readonly WHEELTEC_FRESH_TREE_OPTIONS=(-DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG")
+
 # Configures a fresh build directory ($BUILD_DIR, default build/) and builds the given
 # targets, or everything when none are given.
 configure_and_build() {
@@ -79,7 +103,7 @@ configure_and_build() {
   local targets=()
   (($# == 0)) || targets=(--target "$@")
   rm -rf -- "$BUILD_DIR"
-  cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" \
+  cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" "${WHEELTEC_FRESH_TREE_OPTIONS[@]}" \
     -DWHEELTEC_BUILD_TESTS="${WHEELTEC_BUILD_TESTS:-ON}" \
     -DWHEELTEC_BUILD_BENCHMARKS="${WHEELTEC_BUILD_BENCHMARKS:-ON}"
   cmake --build "$BUILD_DIR" -j "$jobs" "${targets[@]}"

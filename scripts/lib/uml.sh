@@ -33,3 +33,30 @@ linux_uml() {
         linux.uml "$@"
     fi
 }
+
+# The directory of the UML kernel's modules (/usr/lib/uml/modules/VERSION/kernel): the
+# running linux.uml's version when installed, else the first one there.
+uml_module_dir() {
+    local version
+    version=$(linux.uml --version 2>/dev/null | tail -n 1)
+    if [[ -n $version && -d /usr/lib/uml/modules/$version ]]; then
+        echo "/usr/lib/uml/modules/$version/kernel"
+        return
+    fi
+    local dirs=(/usr/lib/uml/modules/*/kernel)
+    [[ -d ${dirs[0]} ]] && echo "${dirs[0]}"
+}
+
+# Stops the UML kernel started in the background as process group $uml_pid (TERM, then
+# KILL after a second), with all of its host helper processes; clears uml_pid.
+kill_uml() {
+    [[ -n $uml_pid ]] || return 0
+    kill -TERM -- "-$uml_pid" 2>/dev/null
+    local _
+    for _ in 1 2 3 4 5 6 7 8 9 10; do
+        kill -0 -- "-$uml_pid" 2>/dev/null || break
+        sleep 0.1
+    done
+    kill -KILL -- "-$uml_pid" 2>/dev/null
+    uml_pid=
+}

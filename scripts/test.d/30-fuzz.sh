@@ -18,11 +18,12 @@ build=${FUZZ_BUILD_DIR:-$BUILD_DIR-fuzz}
 jobs=${BUILD_JOBS:-2}
 targets=(rpc_line telemetry_frames link_messages candump_log config serial_frames fixed_decimal mqtt_command web_foxglove)
 
-cmake -S "$REPO_ROOT" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+cmake -S "$REPO_ROOT" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${WHEELTEC_FRESH_TREE_OPTIONS[@]}" \
   -DCMAKE_CXX_COMPILER=clang++-14 \
   -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
   -DWHEELTEC_BUILD_FUZZERS=ON -DWHEELTEC_BUILD_TESTS=OFF -DWHEELTEC_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+end_of_stage_build
 
 artifacts=$build/fuzz-artifacts
 mkdir -p "$artifacts"
