@@ -23,6 +23,10 @@ class DaemonSession {
   using Clock = std::chrono::steady_clock;
   enum class Wake { done, timeout, interrupted };
 
+  // How often a driving command repeats its drive: well under the daemon's default
+  // deadman (control.command_timeout_s = 0.5).
+  static constexpr std::chrono::milliseconds kDriveResendPeriod{100};
+
   // CliError(kExitUnreachable) when the daemon cannot be reached.
   explicit DaemonSession(const std::string& socket_path);
 

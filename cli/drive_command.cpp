@@ -10,12 +10,6 @@
 #include "human_format.hpp"
 
 namespace wheeltecctl {
-namespace {
-
-// Well under the daemon's default deadman (control.command_timeout_s = 0.5).
-constexpr std::chrono::milliseconds kResendPeriod{100};
-
-}  // namespace
 
 int run_drive(const GlobalOptions& options, const wheeltec::Velocity& velocity, double seconds) {
   using Clock = DaemonSession::Clock;
@@ -30,7 +24,7 @@ int run_drive(const GlobalOptions& options, const wheeltec::Velocity& velocity, 
     std::cout << format_drive_started(first_result, velocity, seconds) << std::endl;
   }
 
-  auto next_send = start + kResendPeriod;
+  auto next_send = start + DaemonSession::kDriveResendPeriod;
   bool interrupted = false;
   for (;;) {
     if (daemon.wait(std::min(next_send, end)) == DaemonSession::Wake::interrupted) {
@@ -41,7 +35,7 @@ int run_drive(const GlobalOptions& options, const wheeltec::Velocity& velocity, 
     if (now >= end) break;
     if (now < next_send) continue;
     daemon.drive(velocity);
-    next_send = std::max(next_send + kResendPeriod, Clock::now());
+    next_send = std::max(next_send + DaemonSession::kDriveResendPeriod, Clock::now());
   }
 
   const Json stop_result = daemon.call("stop");

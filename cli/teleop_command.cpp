@@ -24,9 +24,6 @@ namespace {
 
 using Clock = DaemonSession::Clock;
 
-// Well under the daemon's default deadman (control.command_timeout_s = 0.5).
-constexpr std::chrono::milliseconds kResendPeriod{100};
-
 class TeleopSession {
  public:
   TeleopSession(DaemonSession& daemon, Clock::duration hold) : daemon_(daemon), hold_(hold) {}
@@ -93,7 +90,7 @@ class TeleopSession {
       const Json result = daemon_.drive(velocity);
       const auto clamped = result.find("clamped");
       note_ = clamped != result.end() && *clamped == true ? "clamped by the daemon's limits" : "";
-      next_send_ = Clock::now() + kResendPeriod;
+      next_send_ = Clock::now() + DaemonSession::kDriveResendPeriod;
     } catch (const wheeltec::client::RpcError& error) {
       // Not driving (held by another client, disabled, bus down...): show it, go idle.
       note_ = error.message() + " (code " + std::to_string(error.code()) + ")";

@@ -20,7 +20,7 @@ namespace {
 
 using boost::asio::local::stream_protocol;
 
-constexpr std::string_view kRecord =
+constexpr std::string_view kRecordParams =
     R"({"seq":7,"time":1763800000.123456,"stopped":false,"velocity":{"vx":0.257,"vy":0.001,"wz":0.000},)"
     R"("accel":{"x":-0.2165,"y":-0.3361,"z":9.8756},"gyro":{"x":-0.00133,"y":0.00187,"z":0.00027},)"
     R"("battery":{"voltage":22.584,"low":false},"odom":{"x":0.000000,"y":0.000000,"yaw":0.000000}})";
@@ -74,19 +74,19 @@ Seen run(std::string lines, bool typed, bool text) {
 }
 
 TEST(ClientConnectionLines, TheTextHandlerGetsTheDaemonsBytes) {
-  const Seen seen = run(telemetry_line(kRecord) + telemetry_line(kRecord), false, true);
+  const Seen seen = run(telemetry_line(kRecordParams) + telemetry_line(kRecordParams), false, true);
   ASSERT_EQ(seen.texts.size(), 2u);
-  EXPECT_EQ(seen.texts[0], kRecord);
+  EXPECT_EQ(seen.texts[0], kRecordParams);
   EXPECT_FALSE(seen.closed);
 }
 
 TEST(ClientConnectionLines, BothHandlersGetTheSameRecord) {
-  const Seen seen = run(telemetry_line(kRecord), true, true);
+  const Seen seen = run(telemetry_line(kRecordParams), true, true);
   ASSERT_EQ(seen.texts.size(), 1u);
   ASSERT_EQ(seen.records.size(), 1u);
   EXPECT_EQ(seen.records[0].seq, 7u);
   EXPECT_DOUBLE_EQ(seen.records[0].velocity.vx, 0.257);
-  EXPECT_EQ(seen.records[0].json, Json::parse(kRecord));
+  EXPECT_EQ(seen.records[0].json, Json::parse(kRecordParams));
 }
 
 TEST(ClientConnectionLines, AnotherLayoutIsParsedAndGivenAsText) {
@@ -96,7 +96,7 @@ TEST(ClientConnectionLines, AnotherLayoutIsParsedAndGivenAsText) {
 }
 
 TEST(ClientConnectionLines, ABrokenRecordClosesTheConnectionWithInvalidArgument) {
-  const Seen seen = run(telemetry_line(kRecord) + telemetry_line(R"({"seq":8,,})") + telemetry_line(kRecord), true, true);
+  const Seen seen = run(telemetry_line(kRecordParams) + telemetry_line(R"({"seq":8,,})") + telemetry_line(kRecordParams), true, true);
   EXPECT_EQ(seen.texts.size(), 1u);
   EXPECT_EQ(seen.records.size(), 1u);
   ASSERT_TRUE(seen.closed);
@@ -112,7 +112,7 @@ TEST(ClientConnectionLines, MistypedMembersCloseTheConnectionAndThrowNothing) {
 }
 
 TEST(ClientConnectionLines, ARecordLackingAFieldSkipsOnlyTheTypedHandler) {
-  const Seen seen = run(telemetry_line(R"({"seq":9})") + telemetry_line(kRecord), true, true);
+  const Seen seen = run(telemetry_line(R"({"seq":9})") + telemetry_line(kRecordParams), true, true);
   EXPECT_EQ(seen.texts.size(), 2u);
   ASSERT_EQ(seen.records.size(), 1u);
   EXPECT_EQ(seen.records[0].seq, 7u);

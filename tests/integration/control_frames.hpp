@@ -22,6 +22,10 @@ bool is_disable_frame(const wheeltec::CanFrame& frame);  // manual dialect, flag
 // A velocity frame on `id` (standard, DLC 8, not the enable/disable frame).
 bool is_control_frame(const wheeltec::CanFrame& frame, std::uint32_t id = kManualControlId);
 bool is_zero_control_frame(const wheeltec::CanFrame& frame, std::uint32_t id = kManualControlId);
+// A control frame that asks for motion.
+inline bool is_moving_control_frame(const wheeltec::CanFrame& frame) {
+  return is_control_frame(frame) && !is_zero_control_frame(frame);
+}
 bool is_telemetry_frame(const wheeltec::CanFrame& frame);
 
 std::int16_t control_x(const wheeltec::CanFrame& frame);  // mm/s

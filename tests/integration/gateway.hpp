@@ -13,6 +13,11 @@
 
 namespace integration {
 
+// The daemon's control period in the gateway's configuration (gateway.cpp: rate_hz 20), and
+// the scheduling slack a loaded 2-core machine running User-Mode Linux adds to a deadline.
+inline constexpr double kControlPeriodS = 0.05;
+inline constexpr double kSlackS = 0.05;
+
 // Whether the emulated controller runs its own 2 s drive after booting (the firmware's
 // self-test). Most tests skip it so that the chassis obeys as soon as boot ends.
 enum class EmulatorSelfTest { skip, drive };

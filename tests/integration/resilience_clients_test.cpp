@@ -30,9 +30,6 @@ namespace {
 using namespace std::chrono_literals;
 using SteadyClock = std::chrono::steady_clock;
 
-constexpr double kControlPeriodS = 0.05;
-// Scheduling slack for a loaded 2-core machine running User-Mode Linux.
-constexpr double kSlackS = 0.05;
 
 // A bare socket to the daemon, for clients that misbehave in ways RpcConnection would not.
 class RawClient {

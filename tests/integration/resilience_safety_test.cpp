@@ -29,9 +29,6 @@ using namespace std::chrono_literals;
 
 // The gateway's configuration (tests/integration/gateway.cpp): command_timeout_s 0.5, rate_hz 20.
 constexpr double kCommandTimeoutS = 0.5;
-constexpr double kControlPeriodS = 0.05;
-// Scheduling slack for a loaded 2-core machine running User-Mode Linux.
-constexpr double kSlackS = 0.05;
 
 bool is_any_control_frame(const wheeltec::CanFrame& frame) { return is_control_frame(frame); }
 

@@ -26,15 +26,10 @@ using ros2_side::RepeatingPublisher;
 using DiagnosticsReader = ros2_side::TopicReader<diagnostic_msgs::msg::DiagnosticArrayPubSubType>;
 
 constexpr auto kMatchTimeout = 10s;
-// teleop_twist_keyboard repeats at 10 Hz at most; nav2's controller at 20 Hz.
-constexpr auto kPublishPeriod = 100ms;
 // The daemon's deadman (control.command_timeout_s), and what a loaded machine may add to it.
 constexpr double kDeadmanS = 0.5;
 constexpr double kMarginS = 0.3;
 
-bool is_moving_frame(const wheeltec::CanFrame& frame) {
-  return integration::is_control_frame(frame) && !integration::is_zero_control_frame(frame);
-}
 
 bool is_zero_frame(const wheeltec::CanFrame& frame) { return integration::is_zero_control_frame(frame); }
 
@@ -76,7 +71,7 @@ TEST_F(Ros2Bridge, WhenCmdVelStopsTheDeadmanStopsTheChassis) {
   const auto zero = bus.wait_for(is_zero_frame, 2s);
   ASSERT_TRUE(zero) << "the chassis kept driving after cmd_vel stopped: the bridge repeats it";
   EXPECT_LT(seconds_between(last_published, zero->time), kDeadmanS + kMarginS);
-  EXPECT_TRUE(bus.collect(is_moving_frame, 1s).empty()) << "motion resumed without a cmd_vel";
+  EXPECT_TRUE(bus.collect(integration::is_moving_control_frame, 1s).empty()) << "motion resumed without a cmd_vel";
 }
 
 TEST_F(Ros2Bridge, AKilledBridgeStopsTheChassisAtOnce) {
@@ -93,7 +88,7 @@ TEST_F(Ros2Bridge, AKilledBridgeStopsTheChassisAtOnce) {
   const auto zero = bus.wait_for(is_zero_frame, 2s);
   ASSERT_TRUE(zero) << "no zero frame after the bridge was killed";
   EXPECT_LT(seconds_between(killed, zero->time), 0.25);
-  EXPECT_TRUE(bus.collect(is_moving_frame, 500ms).empty()) << "motion resumed after the bridge was killed";
+  EXPECT_TRUE(bus.collect(integration::is_moving_control_frame, 500ms).empty()) << "motion resumed after the bridge was killed";
 }
 
 TEST_F(Ros2Bridge, CmdVelWithANonFiniteValueIsDropped) {
@@ -108,7 +103,7 @@ TEST_F(Ros2Bridge, CmdVelWithANonFiniteValueIsDropped) {
   for (const auto& twist : {make_twist(nan, 0.1, 0.5), make_twist(0.3, infinity, 0.5), make_twist(0.3, 0.1, -infinity),
                             make_twist(nan, nan, nan)}) {
     RepeatingPublisher bad(writer, twist, kPublishPeriod);
-    const auto moving = bus.wait_for(is_moving_frame, 400ms);
+    const auto moving = bus.wait_for(integration::is_moving_control_frame, 400ms);
     EXPECT_FALSE(moving) << "a cmd_vel with a non-finite value drove the chassis: "
                          << integration::to_text(moving->frame);
   }

@@ -17,6 +17,13 @@ namespace ros2_tests {
 
 using Json = nlohmann::json;
 
+// How long a reader waits for its first sample: discovery and the bridge's start on a
+// loaded machine.
+inline constexpr std::chrono::seconds kFirstSampleTimeout{10};
+// How often the ROS 2 side publishes cmd_vel: teleop_twist_keyboard repeats at 10 Hz at
+// most; nav2's controller at 20 Hz.
+inline constexpr std::chrono::milliseconds kPublishPeriod{100};
+
 // The tests of wheeltec-ros2 on vcan0 (run in scripts/vcan-run): one emulator and wheeltecd
 // for the suite, and in each test a bridge of its own on a DDS domain of its own, with a
 // ROS 2 side (Fast DDS, loopback) on that domain.

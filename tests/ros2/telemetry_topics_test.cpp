@@ -24,7 +24,6 @@ using ros2_side::WallClock;
 
 // Moving on all three axes the mecanum chassis has, so that no value compared is zero.
 const Json kDriving = {{"vx", 0.2}, {"vy", 0.1}, {"wz", 0.4}};
-constexpr auto kFirstSampleTimeout = 10s;
 // Once a second, give or take a loaded machine's scheduling.
 constexpr double kLongestGapS = 1.5;
 

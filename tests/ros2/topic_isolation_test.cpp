@@ -26,12 +26,7 @@ using OdometryReader = ros2_side::TopicReader<nav_msgs::msg::OdometryPubSubType>
 using TfReader = ros2_side::TopicReader<tf2_msgs::msg::TFMessagePubSubType>;
 using ImuReader = ros2_side::TopicReader<sensor_msgs::msg::ImuPubSubType>;
 
-constexpr auto kFirstSampleTimeout = 10s;
-constexpr auto kPublishPeriod = 100ms;
 
-bool is_moving_frame(const wheeltec::CanFrame& frame) {
-  return integration::is_control_frame(frame) && !integration::is_zero_control_frame(frame);
-}
 
 TEST_F(Ros2Bridge, AnotherDomainSeesNoTopicAndItsCmdVelDrivesNothing) {
   start();
@@ -43,14 +38,14 @@ TEST_F(Ros2Bridge, AnotherDomainSeesNoTopicAndItsCmdVelDrivesNothing) {
     CmdVelWriter other_domain_cmd_vel(elsewhere, "rt/cmd_vel", Reliability::best_effort, 1);
     RepeatingPublisher publisher(other_domain_cmd_vel, make_twist(0.3, 0, 0), kPublishPeriod);
     ASSERT_GE(own_domain_odom.wait_for_count(20, kFirstSampleTimeout).size(), 20u) << "no odom on the bridge's domain";
-    EXPECT_TRUE(bus.take_pending(is_moving_frame).empty()) << "cmd_vel on another domain drove the chassis";
+    EXPECT_TRUE(bus.take_pending(integration::is_moving_control_frame).empty()) << "cmd_vel on another domain drove the chassis";
   }
   EXPECT_TRUE(other_domain_odom.samples().empty()) << "odom reached domain " << elsewhere.domain_id();
   // The bridge does listen to its own domain.
   CmdVelWriter cmd_vel(participant(), "rt/cmd_vel", Reliability::best_effort, 1);
   ASSERT_TRUE(cmd_vel.wait_matched(kFirstSampleTimeout));
   RepeatingPublisher publisher(cmd_vel, make_twist(0.3, 0, 0), kPublishPeriod);
-  EXPECT_TRUE(bus.wait_for(is_moving_frame, 2s)) << "cmd_vel on the bridge's own domain did not drive";
+  EXPECT_TRUE(bus.wait_for(integration::is_moving_control_frame, 2s)) << "cmd_vel on the bridge's own domain did not drive";
 }
 
 TEST_F(Ros2Bridge, ARobotWithANamespaceAndItsOwnFramesIsUnderItsNamespaceOnly) {
@@ -70,7 +65,7 @@ TEST_F(Ros2Bridge, ARobotWithANamespaceAndItsOwnFramesIsUnderItsNamespaceOnly) {
     ASSERT_GE(odom.size(), 20u) << "no odom on /fleet/robot1/odom";
     EXPECT_EQ(odom.back().message.header().frame_id(), "robot1/odom");
     EXPECT_EQ(odom.back().message.child_frame_id(), "robot1/base_footprint");
-    EXPECT_TRUE(bus.take_pending(is_moving_frame).empty()) << "/cmd_vel drove the chassis of /fleet/robot1";
+    EXPECT_TRUE(bus.take_pending(integration::is_moving_control_frame).empty()) << "/cmd_vel drove the chassis of /fleet/robot1";
   }
   const auto imu = namespaced_imu.wait_for_count(1, 1s);
   ASSERT_FALSE(imu.empty()) << "no imu on /fleet/robot1/imu";
@@ -79,7 +74,7 @@ TEST_F(Ros2Bridge, ARobotWithANamespaceAndItsOwnFramesIsUnderItsNamespaceOnly) {
   CmdVelWriter cmd_vel(participant(), "rt/fleet/robot1/cmd_vel", Reliability::reliable, 10);
   ASSERT_TRUE(cmd_vel.wait_matched(kFirstSampleTimeout));
   RepeatingPublisher publisher(cmd_vel, make_twist(0.3, 0, 0), kPublishPeriod);
-  EXPECT_TRUE(bus.wait_for(is_moving_frame, 2s)) << "/fleet/robot1/cmd_vel did not drive";
+  EXPECT_TRUE(bus.wait_for(integration::is_moving_control_frame, 2s)) << "/fleet/robot1/cmd_vel did not drive";
 }
 
 TEST_F(Ros2Bridge, TheDomainComesFromRosDomainIdWithoutAFlag) {

@@ -13,7 +13,7 @@ constexpr std::chrono::nanoseconds kTimeout = milliseconds(500);
 constexpr MonotonicNanos at(long long ms) { return MonotonicNanos{milliseconds(ms)}; }
 constexpr ClientId kAlice = 1;
 constexpr ClientId kBob = 2;
-const Velocity kForward{0.2, 0.0, 0.5};
+const Velocity kAliceForward{0.2, 0.0, 0.5};
 const Velocity kBackward{-0.3, 0.1, -0.2};
 const Velocity kZero{};
 
@@ -27,15 +27,15 @@ TEST(ControlArbiter, StartsWithoutOwner) {
 
 TEST(ControlArbiter, FirstDriveTakesControl) {
   ControlArbiter arbiter(kTimeout);
-  EXPECT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  EXPECT_TRUE(arbiter.try_drive(kAlice, kAliceForward, at(1000)));
   EXPECT_EQ(arbiter.owner(), kAlice);
-  EXPECT_EQ(arbiter.target(), kForward);
+  EXPECT_EQ(arbiter.target(), kAliceForward);
   EXPECT_EQ(arbiter.deadline(), at(1500));
 }
 
 TEST(ControlArbiter, OwnerRedrivingChangesTargetAndExtendsDeadline) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kAliceForward, at(1000)));
   EXPECT_TRUE(arbiter.try_drive(kAlice, kBackward, at(1400)));
   EXPECT_EQ(arbiter.owner(), kAlice);
   EXPECT_EQ(arbiter.target(), kBackward);
@@ -47,16 +47,16 @@ TEST(ControlArbiter, OwnerRedrivingChangesTargetAndExtendsDeadline) {
 
 TEST(ControlArbiter, OtherClientIsRefusedAndNothingChanges) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kAliceForward, at(1000)));
   EXPECT_FALSE(arbiter.try_drive(kBob, kBackward, at(1200)));
   EXPECT_EQ(arbiter.owner(), kAlice);
-  EXPECT_EQ(arbiter.target(), kForward);
+  EXPECT_EQ(arbiter.target(), kAliceForward);
   EXPECT_EQ(arbiter.deadline(), at(1500));
 }
 
 TEST(ControlArbiter, StopZeroesAndReleases) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kAliceForward, at(1000)));
   arbiter.stop();
   EXPECT_EQ(arbiter.owner(), std::nullopt);
   EXPECT_EQ(arbiter.target(), kZero);
@@ -74,7 +74,7 @@ TEST(ControlArbiter, StopWithoutOwnerIsHarmless) {
 
 TEST(ControlArbiter, ReleaseByOwnerStopsAndLetsOthersDrive) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kAliceForward, at(1000)));
   EXPECT_TRUE(arbiter.release(kAlice));
   EXPECT_EQ(arbiter.owner(), std::nullopt);
   EXPECT_EQ(arbiter.target(), kZero);
@@ -87,19 +87,19 @@ TEST(ControlArbiter, ReleaseByOwnerStopsAndLetsOthersDrive) {
 TEST(ControlArbiter, ReleaseByNonOwnerChangesNothing) {
   ControlArbiter arbiter(kTimeout);
   EXPECT_FALSE(arbiter.release(kAlice));
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kAliceForward, at(1000)));
   EXPECT_FALSE(arbiter.release(kBob));
   EXPECT_EQ(arbiter.owner(), kAlice);
-  EXPECT_EQ(arbiter.target(), kForward);
+  EXPECT_EQ(arbiter.target(), kAliceForward);
   EXPECT_EQ(arbiter.deadline(), at(1500));
 }
 
 TEST(ControlArbiter, ExpiresExactlyAtDeadline) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kAliceForward, at(1000)));
   EXPECT_FALSE(arbiter.expire(at(1500) - std::chrono::nanoseconds(1)));
   EXPECT_EQ(arbiter.owner(), kAlice);
-  EXPECT_EQ(arbiter.target(), kForward);
+  EXPECT_EQ(arbiter.target(), kAliceForward);
   EXPECT_TRUE(arbiter.expire(at(1500)));
   EXPECT_EQ(arbiter.owner(), std::nullopt);
   EXPECT_EQ(arbiter.target(), kZero);
@@ -114,7 +114,7 @@ TEST(ControlArbiter, ExpireWithoutOwnerIsFalse) {
 
 TEST(ControlArbiter, OtherClientDrivesAfterExpiry) {
   ControlArbiter arbiter(kTimeout);
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kAliceForward, at(1000)));
   ASSERT_TRUE(arbiter.expire(at(2000)));
   EXPECT_TRUE(arbiter.try_drive(kBob, kBackward, at(2000)));
   EXPECT_EQ(arbiter.owner(), kBob);
@@ -125,7 +125,7 @@ TEST(ControlArbiter, NewTimeoutAppliesToNextDrive) {
   ControlArbiter arbiter(kTimeout);
   arbiter.set_command_timeout(milliseconds(200));
   EXPECT_EQ(arbiter.command_timeout(), milliseconds(200));
-  ASSERT_TRUE(arbiter.try_drive(kAlice, kForward, at(1000)));
+  ASSERT_TRUE(arbiter.try_drive(kAlice, kAliceForward, at(1000)));
   EXPECT_EQ(arbiter.deadline(), at(1200));
 }
 

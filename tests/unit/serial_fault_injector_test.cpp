@@ -21,7 +21,7 @@ RecordBytes record(std::int16_t vx) {
   return encode_record(raw);
 }
 
-Bytes bytes_of(const RecordBytes& r) { return Bytes(r.begin(), r.end()); }
+Bytes record_bytes(const RecordBytes& r) { return Bytes(r.begin(), r.end()); }
 
 Bytes bytes_sent(SerialFaultInjector& faults, const RecordBytes& r) {
   Bytes out;
@@ -31,7 +31,7 @@ Bytes bytes_sent(SerialFaultInjector& faults, const RecordBytes& r) {
 
 TEST(SerialFaultInjectorTest, WithoutFaultsTheRecordGoesOutAsItIs) {
   SerialFaultInjector faults({}, 1);
-  for (std::int16_t vx = 0; vx < 10; ++vx) EXPECT_EQ(bytes_sent(faults, record(vx)), bytes_of(record(vx)));
+  for (std::int16_t vx = 0; vx < 10; ++vx) EXPECT_EQ(bytes_sent(faults, record(vx)), record_bytes(record(vx)));
 }
 
 TEST(SerialFaultInjectorTest, DropLeavesTheRecordOut) {
@@ -66,8 +66,8 @@ TEST(SerialFaultInjectorTest, ReorderSwapsARecordWithTheNextOne) {
   rates.record.reorder = 1.0;
   SerialFaultInjector faults(rates, 1);
   EXPECT_TRUE(bytes_sent(faults, record(1)).empty());
-  Bytes expected = bytes_of(record(2));
-  const Bytes first = bytes_of(record(1));
+  Bytes expected = record_bytes(record(2));
+  const Bytes first = record_bytes(record(1));
   expected.insert(expected.end(), first.begin(), first.end());
   EXPECT_EQ(bytes_sent(faults, record(2)), expected);  // the second is not held back in turn
   EXPECT_TRUE(bytes_sent(faults, record(3)).empty());

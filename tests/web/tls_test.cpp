@@ -22,9 +22,9 @@
 namespace web_tests {
 namespace {
 
-constexpr int kPort = 18091;
+constexpr int kTlsPort = 18091;
 
-std::string exchange(const std::string& bytes) { return integration::loopback_exchange(kPort, bytes); }
+std::string exchange(const std::string& bytes) { return integration::loopback_exchange(kTlsPort, bytes); }
 
 class WebTls : public SerialWebTest {
  protected:
@@ -38,9 +38,9 @@ class WebTls : public SerialWebTest {
     std::vector<std::string> arguments{"--tls-cert", certificates_.cert.string(), "--tls-key",
                                        certificates_.key.string()};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
-    start_web(kPort, arguments);
+    start_web(kTlsPort, arguments);
   }
-  std::string wss_url() const { return "wss://127.0.0.1:" + std::to_string(kPort); }
+  std::string wss_url() const { return "wss://127.0.0.1:" + std::to_string(kTlsPort); }
   ChildProcess::Environment trusting_the_ca() const { return {{"NODE_EXTRA_CA_CERTS", certificates_.ca.string()}}; }
   nlohmann::json client(const std::string& mode, const std::vector<std::string>& extra = {}) const {
     return run_client(mode, wss_url(), extra, trusting_the_ca());
@@ -54,7 +54,7 @@ class WebTls : public SerialWebTest {
     return result;
   }
   std::string peer_subject() const {
-    const nlohmann::json peer = probe({"peer", std::to_string(kPort), certificates_.ca.string()});
+    const nlohmann::json peer = probe({"peer", std::to_string(kTlsPort), certificates_.ca.string()});
     EXPECT_EQ(peer["ok"], true) << peer.dump();
     return peer.value("subject", "");
   }
@@ -64,7 +64,7 @@ class WebTls : public SerialWebTest {
 
 TEST_F(WebTls, FoxgloveOverWssSeesEveryChannelDrivesAndMeetsTheSameRules) {
   start_tls_web({"--allow-origin", "https://app.foxglove.dev"});
-  const nlohmann::json peer = probe({"peer", std::to_string(kPort), certificates_.ca.string()});
+  const nlohmann::json peer = probe({"peer", std::to_string(kTlsPort), certificates_.ca.string()});
   EXPECT_EQ(peer["ok"], true) << peer.dump();
   EXPECT_TRUE(peer["protocol"] == "TLSv1.3" || peer["protocol"] == "TLSv1.2") << peer.dump();
 
@@ -98,7 +98,7 @@ TEST_F(WebTls, FoxgloveOverWssSeesEveryChannelDrivesAndMeetsTheSameRules) {
 TEST_F(WebTls, PlainHttpGarbageOldProtocolsAndStalledHandshakesCostOnlyTheirConnection) {
   start_tls_web();
   // A client that connects and never says anything, held open through the rest.
-  const int stalled = integration::connect_loopback(kPort);
+  const int stalled = integration::connect_loopback(kTlsPort);
   ASSERT_GE(stalled, 0);
   const auto stalled_since = SteadyClock::now();
 
@@ -109,7 +109,7 @@ TEST_F(WebTls, PlainHttpGarbageOldProtocolsAndStalledHandshakesCostOnlyTheirConn
   // the connection is closed.
   const std::string garbage = exchange(std::string("\x16\x03\x01\x00\x40\x01\x00\x00\x3c", 9) + std::string(60, '\x5a'));
   EXPECT_EQ(garbage.find("HTTP/"), std::string::npos) << garbage;
-  const nlohmann::json old = probe({"old", std::to_string(kPort)});
+  const nlohmann::json old = probe({"old", std::to_string(kTlsPort)});
   EXPECT_EQ(old["ok"], true) << "a TLS 1.1 client was accepted: " << old.dump();
 
   // Meanwhile a Foxglove client over wss:// is served as usual.
@@ -179,7 +179,7 @@ TEST_F(WebTls, AKeyOthersCanReadAndAHalfPairAreRefusedWithExit2) {
   std::filesystem::permissions(certificates_.key, std::filesystem::perms::others_read, std::filesystem::perm_options::add);
   const auto open_key = integration::run_program(
       WHEELTEC_WEB_PATH,
-      {"--socket", "/nonexistent.sock", "--listen", "127.0.0.1:" + std::to_string(kPort), "--tls-cert",
+      {"--socket", "/nonexistent.sock", "--listen", "127.0.0.1:" + std::to_string(kTlsPort), "--tls-cert",
        certificates_.cert.string(), "--tls-key", certificates_.key.string()},
       directory_->path(), 10s);
   EXPECT_TRUE(open_key.status.exited_with(2)) << open_key.describe();
