@@ -136,7 +136,7 @@ spec = e2e["floor"].get("spec_floor_idle_instructions")
 if spec:
     ips = spec["instructions_per_s"]
     print(f"| user-space instructions/s of the spec floor (the relay plus the spec's work per record and control period, callgrind) | wheeltecd {d[2] / ips:.2f}x it | {ips:.0f}, {ips / r[2]:.2f}x the relay | | |")
-print(f"| user-space instructions: wheeltecd against the relay | {d[2] / r[2]:.2f}x | | <= 3x | {'met' if d[2] <= 3 * r[2] else '**missed**'} |")
+print(f"| user-space instructions: wheeltecd against the relay | {d[2] / r[2]:.2f}x | | | |")
 PY
 )
 
