@@ -27,6 +27,11 @@ mkdir -p "$stage_logs"
 # end_of_stage_build) run meanwhile, at the idle scheduling class: they get only the time
 # the tests do not want, and the tests run as on a quiet machine. A stage whose build
 # failed here builds again when it runs, and reports the error then.
+for stage in "$REPO_ROOT"/scripts/test.d/*.sh; do
+  if grep -q '^end_of_stage_install' "$stage"; then
+    STAGE_INSTALL_ONLY=1 bash "$stage"
+  fi
+done
 stage_builds() {
   chrt --idle -p 0 "$BASHPID" >/dev/null 2>&1 || renice -n 19 -p "$BASHPID" >/dev/null
   local stage

@@ -71,9 +71,18 @@ install_dependencies() {
   install_packages "${packages[@]}"
 }
 
-# Called by a test stage (scripts/test.d) once its build is done: with STAGE_BUILD_ONLY=1
-# the stage ends there. scripts/test.sh runs the stages that call it that way while ctest
-# runs, so that their builds use the processor time the tests leave idle.
+# Called by a test stage (scripts/test.d) once it has installed its packages: with
+# STAGE_INSTALL_ONLY=1 the stage ends there. scripts/test.sh installs them all before ctest
+# runs, since the systemd suite boots systems on the host's files, dpkg's database among them.
+end_of_stage_install() {
+  if [[ ${STAGE_INSTALL_ONLY:-} == 1 ]]; then
+    exit 0
+  fi
+}
+
+# Called by a test stage once its build is done: with STAGE_BUILD_ONLY=1 the stage ends
+# there. scripts/test.sh runs the stages that call it that way while ctest runs, so that
+# their builds use the processor time the tests leave idle.
 end_of_stage_build() {
   if [[ ${STAGE_BUILD_ONLY:-} == 1 ]]; then
     exit 0

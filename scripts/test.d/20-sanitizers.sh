@@ -21,6 +21,7 @@ BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
 # shellcheck source=scripts/lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
 install_packages clang-14 libclang-rt-14-dev
+end_of_stage_install
 prefix=${SANITIZER_BUILD_DIR:-$BUILD_DIR-sanitizers}
 jobs=${BUILD_JOBS:-2}
 reports=$prefix-reports

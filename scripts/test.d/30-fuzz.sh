@@ -12,6 +12,7 @@ BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
 # shellcheck source=scripts/lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
 install_packages clang-14 libclang-rt-14-dev
+end_of_stage_install
 
 seconds=${FUZZ_SECONDS:-20}
 build=${FUZZ_BUILD_DIR:-$BUILD_DIR-fuzz}

@@ -19,6 +19,7 @@ fi
 install_packages crossbuild-essential-arm64 qemu-user file \
   libboost-dev:arm64 libspdlog-dev:arm64 libfmt-dev:arm64 libgtest-dev:arm64 \
   libsystemd-dev:arm64
+end_of_stage_install
 
 arm_build=$BUILD_DIR/arm64  # removed with the build directory
 # Release: what a robot runs; without RelWithDebInfo's debug information the cross build,
