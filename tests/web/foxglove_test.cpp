@@ -95,7 +95,8 @@ TEST(Foxglove, DeepNestingAndKeysGivenTwiceAreRefused) {
 }
 
 TEST(Foxglove, ParsesClientPublishAndRefusesShortOrUnknownFrames) {
-  const auto publish = parse_binary(std::string("\x01\x02\x00\x00\x00{\"vx\":1}", 13));
+  const std::string frame("\x01\x02\x00\x00\x00{\"vx\":1}", 13);  // the payload is a view into it
+  const auto publish = parse_binary(frame);
   ASSERT_TRUE(std::holds_alternative<ClientPublish>(publish));
   EXPECT_EQ(std::get<ClientPublish>(publish).channel_id, 2u);
   EXPECT_EQ(std::get<ClientPublish>(publish).payload, "{\"vx\":1}");
