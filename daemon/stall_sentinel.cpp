@@ -105,7 +105,7 @@ void StallSentinel::use_port(int fd) noexcept {
   if (port_channel_ < 0) return;
   char tag = fd >= 0 ? 'P' : 'C';
   iovec data{&tag, 1};
-  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))];
+  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int))] = {};  // the padding after the descriptor too
   msghdr message{};
   message.msg_iov = &data;
   message.msg_iovlen = 1;
