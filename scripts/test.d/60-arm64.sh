@@ -41,5 +41,8 @@ qemu-aarch64 "$arm_build/daemon/wheeltecd" --version
 # Under qemu-user a process that changes its credentials (setgroups, setgid, setuid, even
 # as raw system calls) never returns, so the test that connects as another user runs
 # natively only (in ctest). The timeout makes any other hang fail this stage, not the run.
+# The stall sentinel's tests fork the sentinel, whose process closes every descriptor it does
+# not use, qemu-user's own among them: under qemu it never runs (natively, and under valgrind
+# in the memcheck stage, it does).
 (cd "$arm_build/tests/unit" && timeout --signal=KILL 900 qemu-aarch64 ./unit_tests --gtest_color=no --gtest_brief=1 \
-  --gtest_filter=-PeerCredentials.SupplementaryGroupsComeFromTheKernelAsAtConnect)
+  --gtest_filter=-PeerCredentials.SupplementaryGroupsComeFromTheKernelAsAtConnect:StallSentinelTest.*)
