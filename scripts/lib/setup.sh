@@ -26,10 +26,18 @@ readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd ut
 
 # Prints the packages among the arguments that are not installed.
 missing_packages() {
-  local package status
+  local package status native
+  native=$(dpkg --print-architecture)
   for package in "$@"; do
-    status=$(dpkg-query -W -f='${db:Status-Status}' "$package" 2>/dev/null) || status=
-    [[ $status == installed ]] || echo "$package"
+    if [[ $package == *:* ]]; then
+      status=$(dpkg-query -W -f='${db:Status-Status}' "$package" 2>/dev/null) || status=
+      [[ $status == installed ]] || echo "$package"
+    else
+      # A name without an architecture is the native package (or an architecture-independent
+      # one); the arm64 stage installs some of them for arm64 too.
+      dpkg-query -W -f='${db:Status-Status} ${Architecture}\n' "$package" 2>/dev/null |
+        grep -qE "^installed ($native|all)\$" || echo "$package"
+    fi
   done
 }
 
