@@ -22,39 +22,8 @@ stage_logs=$BUILD_DIR-stages
 rm -rf -- "$stage_logs"
 mkdir -p "$stage_logs"
 
-# ctest leaves much of the processor idle (the suites wait on the emulated chassis, on
-# timers and on User-Mode Linux), so the stages' own builds (those that call
-# end_of_stage_build) run meanwhile, at the idle scheduling class: they get only the time
-# the tests do not want, and the tests run as on a quiet machine. A stage whose build
-# failed here builds again when it runs, and reports the error then.
-for stage in "$REPO_ROOT"/scripts/test.d/*.sh; do
-  if grep -q '^end_of_stage_install' "$stage"; then
-    STAGE_INSTALL_ONLY=1 bash "$stage"
-  fi
-done
-stage_builds() {
-  chrt --idle -p 0 "$BASHPID" >/dev/null 2>&1 || renice -n 19 -p "$BASHPID" >/dev/null
-  local stage
-  for stage in "$REPO_ROOT"/scripts/test.d/*.sh; do
-    grep -q '^end_of_stage_build' "$stage" || continue
-    STAGE_BUILD_ONLY=1 bash "$stage" >"$stage_logs/$(basename "$stage" .sh).build.log" 2>&1 || true
-  done
-}
-stage_builds_started=$SECONDS
-set -m  # the builds in a process group of their own, to be stopped as one if ctest fails
-stage_builds &
-stage_builds_pid=$!
-set +m
-ctest_status=0
-(cd "$BUILD_DIR" && ctest --output-on-failure "$@") || ctest_status=$?
+(cd "$BUILD_DIR" && ctest --output-on-failure "$@")
 echo "== ctest done in $SECONDS s"
-if ((ctest_status != 0)); then
-  kill -TERM -- "-$stage_builds_pid" 2>/dev/null || true
-  wait "$stage_builds_pid" || true
-  exit "$ctest_status"
-fi
-wait "$stage_builds_pid"
-echo "== the stages' builds done in $((SECONDS - stage_builds_started)) s (beside ctest)"
 passed=0 failed_stages=()
 for stage in "$REPO_ROOT"/scripts/test.d/*.sh; do
   [[ -e $stage ]] || continue

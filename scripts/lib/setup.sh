@@ -79,24 +79,6 @@ install_dependencies() {
   install_packages "${packages[@]}"
 }
 
-# Called by a test stage (scripts/test.d) once it has installed its packages: with
-# STAGE_INSTALL_ONLY=1 the stage ends there. scripts/test.sh installs them all before ctest
-# runs, since the systemd suite boots systems on the host's files, dpkg's database among them.
-end_of_stage_install() {
-  if [[ ${STAGE_INSTALL_ONLY:-} == 1 ]]; then
-    exit 0
-  fi
-}
-
-# Called by a test stage once its build is done: with STAGE_BUILD_ONLY=1 the stage ends
-# there. scripts/test.sh runs the stages that call it that way while ctest runs, so that
-# their builds use the processor time the tests leave idle.
-end_of_stage_build() {
-  if [[ ${STAGE_BUILD_ONLY:-} == 1 ]]; then
-    exit 0
-  fi
-}
-
 # ccache keeps what was compiled. Paths under this clone are hashed relative to it, so that a
 # build of another clone of the same source (a CI run after a session) can reuse it.
 export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$REPO_ROOT}

@@ -21,7 +21,6 @@ BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
 # shellcheck source=scripts/lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
 install_packages clang-14 libclang-rt-14-dev
-end_of_stage_install
 prefix=${SANITIZER_BUILD_DIR:-$BUILD_DIR-sanitizers}
 jobs=${BUILD_JOBS:-2}
 reports=$prefix-reports
@@ -58,7 +57,6 @@ else
 fi
 echo "sanitizers: ASan, LSan and UBSan build of ${targets[*]} in $build"
 configure_and_build_with "$build" "-fsanitize=address,undefined" "${targets[@]}"
-end_of_stage_build
 echo "sanitizers: unit tests"
 "$build/tests/unit/unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
 if [[ " ${targets[*]} " == *" mqtt_unit_tests "* ]]; then

@@ -12,7 +12,6 @@ BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
 # shellcheck source=scripts/lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
 install_packages clang-14 libclang-rt-14-dev
-end_of_stage_install
 
 seconds=${FUZZ_SECONDS:-20}
 build=${FUZZ_BUILD_DIR:-$BUILD_DIR-fuzz}
@@ -24,7 +23,6 @@ cmake -S "$REPO_ROOT" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${
   -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
   -DWHEELTEC_BUILD_FUZZERS=ON -DWHEELTEC_BUILD_TESTS=OFF -DWHEELTEC_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
-end_of_stage_build
 
 artifacts=$build/fuzz-artifacts
 mkdir -p "$artifacts"

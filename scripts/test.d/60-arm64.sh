@@ -19,7 +19,6 @@ fi
 install_packages crossbuild-essential-arm64 qemu-user file \
   libboost-dev:arm64 libspdlog-dev:arm64 libfmt-dev:arm64 libgtest-dev:arm64 \
   libsystemd-dev:arm64
-end_of_stage_install
 
 arm_build=$BUILD_DIR/arm64  # removed with the build directory
 # Release: what a robot runs; without RelWithDebInfo's debug information the cross build,
@@ -28,7 +27,6 @@ cmake -S "$REPO_ROOT" -B "$arm_build" -G Ninja -DCMAKE_BUILD_TYPE=Release "${WHE
   -DCMAKE_TOOLCHAIN_FILE="$REPO_ROOT/cmake/toolchain-aarch64.cmake" \
   -DWHEELTEC_BUILD_BENCHMARKS=OFF -DWHEELTEC_BUILD_FUZZERS=OFF
 cmake --build "$arm_build" -j "${BUILD_JOBS:-2}" --target wheeltecd wheeltecctl wheeltec-emu unit_tests
-end_of_stage_build
 
 for program in daemon/wheeltecd cli/wheeltecctl emulator/wheeltec-emu tests/unit/unit_tests; do
   description=$(file -b "$arm_build/$program")
