@@ -31,21 +31,9 @@
 set -euo pipefail
 
 REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-BUILD_DIR=${BUILD_DIR:-/tmp/build-bench}
-BENCH_OUT=${BENCH_OUT:-$BUILD_DIR/bench-results}
-QUICK=0
-SERIAL=0
-extra=()
-while (($#)); do
-  case "$1" in
-    --quick) QUICK=1 ;;
-    --serial) SERIAL=1 ;;
-    --) shift; extra=("$@"); break ;;
-    -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
-    *) echo "bench-mqtt.sh: unknown argument $1" >&2; exit 2 ;;
-  esac
-  shift
-done
+# shellcheck source=bench-common.sh
+source "$REPO_ROOT/scripts/bench-common.sh"
+bench_arguments '2,30p' --serial "$@"
 
 # shellcheck source=lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
@@ -64,22 +52,6 @@ programs=(--wheeltecd "$BUILD_DIR/daemon/wheeltecd" --bridge "$BUILD_DIR/mqtt/wh
   --paho-bridge "$REPO_ROOT/bench/mqtt/paho_bridge.py" --python /usr/bin/python3
   --mosquitto "$(command -v mosquitto || echo /usr/sbin/mosquitto)")
 
-# Sets the run's line above the benchmark's tables in mqtt-table.md, prints it and exits with
-# the benchmark's status. $1: what the time includes, or where it ran.
-report() {
-  {
-    echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s$1."
-    echo
-    cat "$BENCH_OUT/mqtt-table.body.md"
-  } >"$BENCH_OUT/mqtt-table.md"
-  rm -f "$BENCH_OUT/mqtt-table.body.md"
-  echo
-  cat "$BENCH_OUT/mqtt-table.md"
-  echo
-  echo "bench-mqtt.sh: figures in $BENCH_OUT (mqtt-table.md, mqtt.json)"
-  exit "$status"
-}
-
 if ((SERIAL)); then
   quick=()
   ((QUICK)) && quick=(--quick)
@@ -88,7 +60,7 @@ if ((SERIAL)); then
   status=0
   "$BUILD_DIR/bench/wheeltec-bench-mqtt" "${programs[@]}" --serial --json "$BENCH_OUT/mqtt.json" "${quick[@]}" \
     "${extra[@]}" >"$BENCH_OUT/mqtt-table.body.md" || status=$?
-  report ", natively, the chassis on a pseudo-terminal"
+  bench_report mqtt ", natively, the chassis on a pseudo-terminal"
 fi
 
 args=()
@@ -112,4 +84,4 @@ VCAN_INTERFACES=${interfaces% } "$REPO_ROOT/scripts/vcan-run" -- "$BUILD_DIR/ben
   "${programs[@]}" --emulator "$BUILD_DIR/emulator/wheeltec-emu" \
   --robots "$robots" --json "$BENCH_OUT/mqtt.json" "${args[@]}" "${extra[@]}" >"$BENCH_OUT/mqtt-table.body.md" ||
   status=$?
-report " including the virtual machine's boot"
+bench_report mqtt " including the virtual machine's boot"

@@ -20,19 +20,9 @@
 set -euo pipefail
 
 REPO_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-BUILD_DIR=${BUILD_DIR:-/tmp/build-bench}
-BENCH_OUT=${BENCH_OUT:-$BUILD_DIR/bench-results}
-QUICK=0
-extra=()
-while (($#)); do
-  case "$1" in
-    --quick) QUICK=1 ;;
-    --) shift; extra=("$@"); break ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
-    *) echo "bench-ros2.sh: unknown argument $1" >&2; exit 2 ;;
-  esac
-  shift
-done
+# shellcheck source=bench-common.sh
+source "$REPO_ROOT/scripts/bench-common.sh"
+bench_arguments '2,19p' '' "$@"
 
 # shellcheck source=lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
@@ -71,15 +61,4 @@ status=0
   --wheeltecd "$BUILD_DIR/daemon/wheeltecd" --emulator "$BUILD_DIR/emulator/wheeltec-emu" \
   --bridge "$BUILD_DIR/ros2/wheeltec-ros2" --json "$BENCH_OUT/ros2.json" "${args[@]}" "${extra[@]}" \
   >"$BENCH_OUT/ros2-table.body.md" || status=$?
-
-{
-  echo "Run $(date -u '+%Y-%m-%d %H:%M UTC'), $(uname -m), $(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), load average $(cut -d' ' -f1-3 /proc/loadavg), $((SECONDS - started)) s including the virtual machine's boot."
-  echo
-  cat "$BENCH_OUT/ros2-table.body.md"
-} >"$BENCH_OUT/ros2-table.md"
-rm -f "$BENCH_OUT/ros2-table.body.md"
-echo
-cat "$BENCH_OUT/ros2-table.md"
-echo
-echo "bench-ros2.sh: figures in $BENCH_OUT (ros2-table.md, ros2.json)"
-exit "$status"
+bench_report ros2 " including the virtual machine's boot"

@@ -1,22 +1,7 @@
-// The relay floor of the end-to-end benchmark: the least a gateway with wheeltecd's shape
-// can do. One epoll loop over a raw CAN socket (kernel-filtered to 0x101-0x103) and a
-// Unix stream socket. Every request line gets a fixed reply; a line containing "drive"
-// first sends a control frame on 0x121 carrying its "vx" in mm/s; a line containing
-// "subscribe" makes the client a subscriber; each 0x103 frame makes a fixed-shape
-// telemetry line (the size of the daemon's), and the lines of the frames read in one
-// wakeup go to every subscriber together, up to 64 per write (the fewest system calls;
-// the daemon's kMaxBuffersPerWrite is 64 too); a line containing
-// "stats" is answered with the frames read and the frames the kernel dropped at the CAN
-// socket's receive queue (SO_RXQ_OVFL). No JSON parsing, no protocol checks, no
-// backpressure: a floor, not a product. By default a subscriber that lags makes the relay
-// block; with --bounded-backlog it follows the daemon's rule instead (non-blocking writes,
-// at most 64 KiB queued per client, new telemetry dropped and counted above that), so
-// that the two can be compared where subscribers fall behind. With --frame-fd N it reads
-// the frames (struct can_frame) from the inherited socket N instead of a raw CAN socket: the
-// native fan-out benchmark feeds it through a SOCK_SEQPACKET socket where there is no CAN.
-// With --spec-work it becomes the spec floor: each record is reassembled, decoded and
-// written as its real notification, and a control frame goes out every 1/20 s, with
-// wheeltecd's own pure code (spec_work.hpp); the rest of the loop stays the relay's.
+// wheeltec-bench-floor, the relay floor: the least a gateway of wheeltecd's shape can do (docs/performance.md).
+// One epoll loop over a raw CAN socket and a Unix socket: "drive" sends a 0x121 frame, "subscribe"
+// subscribes, "stats" answers counts; each 0x103 makes a fixed line, a wakeup's lines written together.
+// --bounded-backlog: the daemon's slow-client rule; --frame-fd N: frames from socket N; --spec-work: spec_work.hpp.
 #include <fcntl.h>
 #include <linux/can.h>
 #include <linux/can/raw.h>
@@ -43,17 +28,13 @@ namespace {
 struct Client {
   int fd = -1;
   bool subscribed = false;
-  std::string input;
-  std::string output;  // --bounded-backlog: what the socket did not take yet
+  std::string input, output;  // output: --bounded-backlog, what the socket did not take yet
 };
-
 constexpr std::size_t kBacklogLimit = 64 * 1024;  // the daemon's (docs/api.md, "Slow clients")
-
 [[noreturn]] void fail(const char* what) {
   std::fprintf(stderr, "wheeltec-bench-floor: %s: %s\n", what, std::strerror(errno));
   std::exit(1);
 }
-
 void write_all(int fd, const char* data, std::size_t size) {
   while (size > 0) {
     const ssize_t n = ::send(fd, data, size, MSG_NOSIGNAL);
@@ -62,7 +43,6 @@ void write_all(int fd, const char* data, std::size_t size) {
     size -= static_cast<std::size_t>(n);
   }
 }
-
 // Kernel-filtered to the telemetry IDs, with the kernel's drop count and wheeltecd's receive buffer.
 int open_can_socket(const std::string& interface) {
   const int can = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK, CAN_RAW);
@@ -77,12 +57,8 @@ int open_can_socket(const std::string& interface) {
   if (::setsockopt(can, SOL_SOCKET, SO_RCVBUFFORCE, &buffer, sizeof(buffer)) != 0) {
     ::setsockopt(can, SOL_SOCKET, SO_RCVBUF, &buffer, sizeof(buffer));
   }
-  sockaddr_can can_address{};
-  can_address.can_family = AF_CAN;
-  can_address.can_ifindex = static_cast<int>(::if_nametoindex(interface.c_str()));
-  if (can_address.can_ifindex == 0 || ::bind(can, reinterpret_cast<sockaddr*>(&can_address), sizeof(can_address)) != 0) {
-    fail(interface.c_str());
-  }
+  const sockaddr_can address{.can_family = AF_CAN, .can_ifindex = static_cast<int>(::if_nametoindex(interface.c_str())), .can_addr = {}};
+  if (address.can_ifindex == 0 || ::bind(can, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) != 0) fail(interface.c_str());
   return can;
 }
 
@@ -90,8 +66,7 @@ int open_can_socket(const std::string& interface) {
 
 int main(int argc, char** argv) {
   std::string interface = "vcan0", socket_path;
-  bool bounded = false;
-  bool spec_work = false;
+  bool bounded = false, spec_work = false;
   int frame_fd = -1;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--bounded-backlog") == 0) bounded = true;
@@ -101,9 +76,8 @@ int main(int argc, char** argv) {
     else if (i + 1 < argc && std::strcmp(argv[i], "--socket") == 0) socket_path = argv[++i];
   }
   if (socket_path.empty()) {
-    std::fprintf(stderr,
-                 "usage: wheeltec-bench-floor --socket PATH [--interface vcan0 | --frame-fd N] [--bounded-backlog]\n"
-                 "       [--spec-work]\n");
+    std::fprintf(stderr, "usage: wheeltec-bench-floor --socket PATH [--interface vcan0 | --frame-fd N] [--bounded-backlog]\n"
+                         "       [--spec-work]\n");
     return 2;
   }
 
@@ -126,20 +100,16 @@ int main(int argc, char** argv) {
   }
 
   const int epoll = ::epoll_create1(0);
-  epoll_event event{};
-  event.events = EPOLLIN;
-  event.data.fd = listener;
-  ::epoll_ctl(epoll, EPOLL_CTL_ADD, listener, &event);
-  event.data.fd = can;
-  ::epoll_ctl(epoll, EPOLL_CTL_ADD, can, &event);
-  if (spec) {
-    event.data.fd = spec->timer_fd();
-    ::epoll_ctl(epoll, EPOLL_CTL_ADD, spec->timer_fd(), &event);
-  }
+  const auto watch = [epoll](int operation, int fd, std::uint32_t events) {
+    epoll_event event{events, {.fd = fd}};
+    ::epoll_ctl(epoll, operation, fd, &event);
+  };
+  watch(EPOLL_CTL_ADD, listener, EPOLLIN);
+  watch(EPOLL_CTL_ADD, can, EPOLLIN);
+  if (spec) watch(EPOLL_CTL_ADD, spec->timer_fd(), EPOLLIN);
 
   std::vector<Client> clients;
-  unsigned long long seq = 0;
-  unsigned long long frames_received = 0;
+  unsigned long long seq = 0, frames_received = 0;
   std::uint32_t frames_dropped = 0;  // the kernel's count, carried on the frames read after a drop
   unsigned long long notifications_dropped = 0;  // --bounded-backlog
   char line[600];
@@ -159,10 +129,7 @@ int main(int argc, char** argv) {
     const std::size_t sent = n > 0 ? static_cast<std::size_t>(n) : 0;
     if (sent == size || (n < 0 && errno != EAGAIN)) return;
     c.output.assign(data + sent, size - sent);
-    epoll_event writable{};
-    writable.events = EPOLLIN | EPOLLOUT;
-    writable.data.fd = c.fd;
-    ::epoll_ctl(epoll, EPOLL_CTL_MOD, c.fd, &writable);
+    watch(EPOLL_CTL_MOD, c.fd, EPOLLIN | EPOLLOUT);
   };
   std::string batch;  // the telemetry lines of one wakeup, up to 64 (as the daemon's writes)
   constexpr std::size_t kMaxBatch = 64 * 330;
@@ -186,8 +153,7 @@ int main(int argc, char** argv) {
         // Blocking: a subscriber that lags makes the relay wait rather than lose lines.
         const int client = ::accept4(listener, nullptr, nullptr, 0);
         if (client < 0) continue;
-        event.data.fd = client;
-        ::epoll_ctl(epoll, EPOLL_CTL_ADD, client, &event);
+        watch(EPOLL_CTL_ADD, client, EPOLLIN);
         if (static_cast<std::size_t>(client) >= clients.size()) clients.resize(client + 1);
         clients[client] = Client{client, false, {}, {}};
       } else if (spec && fd == spec->timer_fd()) {
@@ -233,12 +199,7 @@ int main(int argc, char** argv) {
         if ((events[e].events & EPOLLOUT) != 0 && !c.output.empty()) {
           const ssize_t sent = ::send(fd, c.output.data(), c.output.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
           if (sent > 0) c.output.erase(0, static_cast<std::size_t>(sent));
-          if (c.output.empty()) {
-            epoll_event readable{};
-            readable.events = EPOLLIN;
-            readable.data.fd = fd;
-            ::epoll_ctl(epoll, EPOLL_CTL_MOD, fd, &readable);
-          }
+          if (c.output.empty()) watch(EPOLL_CTL_MOD, fd, EPOLLIN);
         }
         if ((events[e].events & (EPOLLIN | EPOLLHUP | EPOLLERR)) == 0) continue;
         char chunk[4096];

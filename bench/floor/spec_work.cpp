@@ -12,14 +12,9 @@
 #include "wheeltec/telemetry_json.hpp"
 
 namespace wheeltec::bench {
-namespace {
 
-constexpr double kLowBatteryV = 10.8;  // the spec's default telemetry.low_battery_v
-
-}  // namespace
-
-SpecWork::SpecWork(int can, double rate_hz)
-    : can_(can), timer_(::timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC)), decoder_(kLowBatteryV) {
+SpecWork::SpecWork(int can, double rate_hz)  // 10.8 V: the spec's default telemetry.low_battery_v
+    : can_(can), timer_(::timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC)), decoder_(10.8) {
   if (timer_ < 0 || !(rate_hz > 0)) throw std::runtime_error("spec work: no timerfd");
   const auto period_ns = static_cast<long>(std::lround(1e9 / rate_hz));
   itimerspec period{};
@@ -28,9 +23,7 @@ SpecWork::SpecWork(int can, double rate_hz)
   period.it_value = period.it_interval;
   ::timerfd_settime(timer_, 0, &period, nullptr);
 }
-
 SpecWork::~SpecWork() { ::close(timer_); }
-
 void SpecWork::on_timer() {
   std::uint64_t expirations = 0;
   if (::read(timer_, &expirations, sizeof(expirations)) != static_cast<ssize_t>(sizeof(expirations))) return;
@@ -38,7 +31,6 @@ void SpecWork::on_timer() {
   const can_frame out = asio_can::to_socketcan(encode_control_frame(Dialect::manual, zero));
   if (::write(can_, &out, sizeof(out)) < 0) std::perror("CAN write");
 }
-
 bool SpecWork::on_frame(const can_frame& frame, RealtimeNanos time, std::string& batch) {
   const auto assembled = reassembler_.feed(asio_can::from_socketcan(frame), time);
   if (!assembled) return false;

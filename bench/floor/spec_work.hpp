@@ -1,14 +1,10 @@
 #pragma once
 
-// The relay floor's --spec-work: the work the spec asks of a gateway for each record and
-// each control period, done with wheeltecd's own pure code (lib/) and nothing around it.
-// It tells the daemon's design apart from the spec's own cost: the relay floor writes a
-// fixed line per 0x103 and sends no control frames; this writes the record's real
-// notification and a control frame every 1/rate_hz, as wheeltecd must.
-
+// The relay floor's --spec-work: the spec's own work for each record and control period, done
+// with wheeltecd's pure code (lib/) and nothing around it: the record's real notification and a
+// control frame every 1/rate_hz, where the relay writes a fixed line and sends no control frames.
 #include <linux/can.h>
 
-#include <cstdint>
 #include <string>
 
 #include "wheeltec/clocks.hpp"
@@ -19,27 +15,17 @@ namespace wheeltec::bench {
 
 class SpecWork {
  public:
-  // `can` is the relay's raw CAN socket; the control period is 1/`rate_hz`.
-  SpecWork(int can, double rate_hz);
+  SpecWork(int can, double rate_hz);  // `can`: the relay's raw CAN socket
   ~SpecWork();
   SpecWork(const SpecWork&) = delete;
   SpecWork& operator=(const SpecWork&) = delete;
-
-  // The timerfd to wait on with the relay's sockets.
   int timer_fd() const { return timer_; }
-
-  // The timer fired: reads its expirations and sends one zero-velocity control frame
-  // (nobody drives at idle), as wheeltecd's control tick does.
+  // The timer fired: one zero-velocity control frame (nobody drives at idle), as wheeltecd's tick.
   void on_timer();
-
-  // A frame read from the CAN socket with its kernel receive time: reassembly, checks,
-  // decoding, odometry and attitude; a completed record's notification is appended to
-  // `batch`. Returns whether a record was completed.
+  // Reassembly, checks, decoding, odometry, attitude; a record's notification appended to `batch` (true).
   bool on_frame(const can_frame& frame, RealtimeNanos time, std::string& batch);
-
  private:
-  int can_;
-  int timer_;
+  int can_, timer_;
   TelemetryReassembler reassembler_;
   TelemetryDecoder decoder_;
 };

@@ -1,11 +1,7 @@
 #!/usr/bin/python3
-"""The reference of wheeltec-bench-mqtt (issue #23): the MQTT bridge a user would write in
-Python with paho-mqtt (Debian's python3-paho-mqtt 1.6.1), to compare wheeltec-mqtt with.
-
-One daemon connection held open; a message on PREFIX/ROBOT/cmd/drive becomes a `drive`
-request (the daemon's auto_enable makes no `enable` necessary), one on cmd/stop a `stop`,
-and losing the broker (on_disconnect) sends `stop`, as the spec asks of wheeltec-mqtt. The
-daemon's replies are read and dropped by a thread. paho's loop_forever reconnects.
+"""wheeltec-bench-mqtt's reference: the MQTT bridge a user would write with paho-mqtt (Debian's 1.6.1).
+One daemon connection; PREFIX/ROBOT/cmd/drive becomes `drive` (the daemon's auto_enable enables),
+cmd/stop and a lost broker `stop`; the replies are read and dropped by a thread; loop_forever reconnects.
 
     /usr/bin/python3 paho_bridge.py --socket PATH --broker 127.0.0.1:1883 --robot py1
 """

@@ -1,13 +1,9 @@
 #!/usr/bin/env python3
-"""The floor of one process between wheeltecd and a subscriber, for bench/web/web_bench.cjs:
-a relay that does nothing but read and write, blocking (one wakeup, one recv and one send per
-burst of records; no event loop, no parsing). What the relay adds over a direct subscriber is
-what any bridge process costs on the machine, wheeltec-web included.
+"""The floor of one process between wheeltecd and a subscriber (bench/web/web_bench.cjs): blocking reads
+and writes only. Each client gets a connection of its own to wheeltecd; after its first line (the
+subscribe request) only the daemon's side is relayed, until either side closes.
 
   relay.py LISTEN_SOCKET WHEELTECD_SOCKET
-
-Each connection to LISTEN_SOCKET gets a connection of its own to wheeltecd. After the client's
-first line (its subscribe request), only the daemon's side is relayed, until either side closes.
 """
 import os
 import socket

@@ -1,10 +1,7 @@
 #!/usr/bin/env bash
-# One benchmark session of wheeltec-web (scripts/bench-web.sh runs it in scripts/vcan-run):
-# wheeltec-emu, wheeltecd and wheeltec-web on vcan0 (plain, and a second one over TLS), headless Chromium unless --no-browser,
-# then bench/web/web_bench.cjs. Everything it starts ends with it.
+# One session of wheeltec-web's benchmark (scripts/bench-web.sh): wheeltec-emu, wheeltecd and wheeltec-web on
+# vcan0 (--serial: a pty), one more over TLS, relay.py, Chromium unless --no-browser, then web_bench.cjs.
 #   session.sh BUILD_DIR NODE_MODULES TELEMETRY_HZ SECONDS VIEWERS [--no-browser] [--serial]
-# --serial: the emulator and the daemon on a pseudo-terminal instead of vcan0 (no scripts/vcan-run
-# needed: natively on any host).
 set -euo pipefail
 build=$1 node_modules=$2 hz=$3 seconds=$4 viewers=$5
 shift 5
@@ -20,8 +17,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 work=$(mktemp -d /tmp/bench-web.XXXXXX)
 pids=()
-# Chromium's own children may still be writing its profile when it has exited: the removal is
-# tried again, and never fails the session (a failing command in an EXIT trap would, under set -e).
+# Chromium's children may still write its profile after it exits: the removal is tried again, never failing.
 cleanup() {
   kill "${pids[@]}" 2>/dev/null || true
   wait 2>/dev/null || true
@@ -65,8 +61,7 @@ for _ in $(seq 50); do [[ -S $work/relay.sock ]] && break; sleep 0.1; done
 
 args=(--socket "$work/wheeltecd.sock" --relay-socket "$work/relay.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds" --viewers "$viewers"
       --tls-url "https://127.0.0.1:$tls_port" --tls-web-pid "$tls_web_pid")
-# strace counts wheeltec-web's system calls per record exactly (User-Mode Linux charges CPU
-# time in whole 10 ms ticks).
+# strace counts wheeltec-web's system calls per record exactly (UML charges CPU in 10 ms ticks).
 strace=$(command -v strace || true)
 [[ -n $strace ]] && args+=(--strace "$strace")
 if [[ $browser != --no-browser ]]; then

@@ -19,11 +19,20 @@ cmake -S "$REPO_ROOT" -B "$BUILD_DIR" -DWHEELTEC_BUILD_BENCHMARKS=ON >/dev/null
 cmake --build "$BUILD_DIR" --target wheeltec-microbench wheeltec-bench-fanout wheeltec-bench-e2e wheeltec-bench-floor \
   wheeltec-bench-serial wheeltecd -j"${BUILD_JOBS:-2}"
 
-out=$(mktemp)
-fanout=$(mktemp)
-serial=$(mktemp)
-mqtt_out=$(mktemp -d)
-trap 'rm -f "$out" "$fanout" "$serial"; rm -rf "$mqtt_out"' EXIT
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+out=$work/microbench.json fanout=$work/fanout.json serial=$work/serial.json
+# Runs a benchmark script's quick mode, its figures in $work/NAME; on failure shows its output and fails.
+run_quick() {
+  local name=$1
+  shift
+  mkdir -p "$work/$name"
+  if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$work/$name "$@" >"$work/$name/output.txt" 2>&1; then
+    cat "$work/$name/output.txt" >&2
+    echo "bench smoke: ${*#"$REPO_ROOT/"} failed" >&2
+    exit 1
+  fi
+}
 "$BUILD_DIR/bench/wheeltec-microbench" --benchmark_min_time=0.01 --benchmark_format=json >"$out"
 python3 - "$out" <<'PY'
 import json, sys
@@ -120,12 +129,8 @@ PY
 # The wheeltec-mqtt benchmark's quick mode (about 30 s): one robot's latencies and CPU per
 # record, next to the paho-mqtt bridge's drives and broker losses, then 1 and 2 robots against one
 # broker. Every figure must be there; none is compared.
-if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$mqtt_out "$REPO_ROOT/scripts/bench-mqtt.sh" --quick >"$mqtt_out/output.txt" 2>&1; then
-  cat "$mqtt_out/output.txt" >&2
-  echo "bench smoke: scripts/bench-mqtt.sh --quick failed" >&2
-  exit 1
-fi
-python3 - "$mqtt_out/mqtt.json" <<'PY'
+run_quick mqtt "$REPO_ROOT/scripts/bench-mqtt.sh" --quick
+python3 - "$work/mqtt/mqtt.json" <<'PY'
 import json, sys
 try:
     m = json.load(open(sys.argv[1]))
@@ -155,14 +160,8 @@ PY
 
 # Its serial mode (about 20 s, natively: the benchmark plays the chassis on a pseudo-terminal):
 # the drives of both bridges and on the daemon's socket, the broker's hop and the broker losses.
-mqtt_serial_out=$(mktemp -d)
-if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$mqtt_serial_out "$REPO_ROOT/scripts/bench-mqtt.sh" --serial --quick \
-    >"$mqtt_serial_out/output.txt" 2>&1; then
-  cat "$mqtt_serial_out/output.txt" >&2
-  echo "bench smoke: scripts/bench-mqtt.sh --serial --quick failed" >&2
-  exit 1
-fi
-python3 - "$mqtt_serial_out/mqtt.json" <<'PY'
+run_quick mqtt-serial "$REPO_ROOT/scripts/bench-mqtt.sh" --serial --quick
+python3 - "$work/mqtt-serial/mqtt.json" <<'PY'
 import json, sys
 m = json.load(open(sys.argv[1]))
 problems = list(m.get("errors", []))
@@ -179,19 +178,12 @@ if problems:
     sys.exit("bench smoke: wheeltec-mqtt benchmark on the serial line: " + "; ".join(problems))
 print("bench smoke: wheeltec-mqtt benchmark ran on the serial line (natively)")
 PY
-rm -rf "$mqtt_serial_out"
 
 # The wheeltec-ros2 benchmark's quick mode (about 45 s): cmd_vel and odom latencies against a
 # Fast DDS peer, next to the daemon's own, and the bridge's CPU per record and memory. Every
 # figure must be there; none is compared.
-ros2_out=$(mktemp -d)
-if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$ros2_out "$REPO_ROOT/scripts/bench-ros2.sh" --quick >"$ros2_out/output.txt" 2>&1; then
-  cat "$ros2_out/output.txt" >&2
-  rm -rf "$ros2_out"
-  echo "bench smoke: scripts/bench-ros2.sh --quick failed" >&2
-  exit 1
-fi
-if ! python3 - "$ros2_out/ros2.json" <<'PY'
+run_quick ros2 "$REPO_ROOT/scripts/bench-ros2.sh" --quick
+python3 - "$work/ros2/ros2.json" <<'PY'
 import json, sys
 try:
     r = json.load(open(sys.argv[1]))
@@ -215,23 +207,12 @@ if problems:
 print(f"bench smoke: wheeltec-ros2 benchmark ran ({r['elapsed_s']:.0f} s inside the VM; "
       f"{r['drives']['via_ros2']['count']} cmd_vel and {r['telemetry']['via_ros2']['count']} odom samples timed)")
 PY
-then
-  rm -rf "$ros2_out"
-  exit 1
-fi
-rm -rf "$ros2_out"
 
 # The wheeltec-web benchmark's quick mode (about a minute): 8 Foxglove clients and the page in
 # headless Chromium, and 8 over wss://, must each have received records, and the CPU and memory figures be there.
 if [[ -x $BUILD_DIR/web/wheeltec-web ]]; then
-  web_out=$(mktemp -d)
-  if ! BUILD_DIR=$BUILD_DIR BENCH_OUT=$web_out "$REPO_ROOT/scripts/bench-web.sh" --quick >"$web_out/output.txt" 2>&1; then
-    cat "$web_out/output.txt" >&2
-    rm -rf "$web_out"
-    echo "bench smoke: scripts/bench-web.sh --quick failed" >&2
-    exit 1
-  fi
-  python3 - "$web_out/web.json" <<'PY'
+  run_quick web "$REPO_ROOT/scripts/bench-web.sh" --quick
+  python3 - "$work/web/web.json" <<'PY'
 import json, sys
 w = json.load(open(sys.argv[1]))
 figures = {"Foxglove messages": w["foxglove"]["viewers"]["n"], "daemon messages": w["foxglove"]["daemon"]["n"],
@@ -246,5 +227,4 @@ print(f"bench smoke: wheeltec-web benchmark ran ({w['foxglove']['viewers']['n']}
       f"{w['tls']['viewers']['n']} wss:// Foxglove and "
       f"{w['browser']['page']['n']} page messages timed)")
 PY
-  rm -rf "$web_out"
 fi
