@@ -49,6 +49,7 @@ targets=(unit_tests serial_tests)
 [[ -f $BUILD_DIR/tests/mqtt/mqtt_unit_tests ]] && targets+=(mqtt_unit_tests)
 [[ -f $BUILD_DIR/tests/web/web_unit_tests ]] && targets+=(web_unit_tests)
 [[ -f $BUILD_DIR/tests/ros2/unit/ros2_unit_tests ]] && targets+=(ros2_unit_tests)
+[[ -f $BUILD_DIR/tests/mcap/mcap_unit_tests ]] && targets+=(mcap_unit_tests)
 if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
   vcan=native
   targets+=(integration_tests)
@@ -67,6 +68,9 @@ if [[ " ${targets[*]} " == *" web_unit_tests "* ]]; then
 fi
 if [[ " ${targets[*]} " == *" ros2_unit_tests "* ]]; then
   "$build/tests/ros2/unit/ros2_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
+fi
+if [[ " ${targets[*]} " == *" mcap_unit_tests "* ]]; then
+  "$build/tests/mcap/mcap_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
 fi
 echo "sanitizers: serial suites"
 (cd "$build" && ctest -L serial --output-on-failure) || failed=1
