@@ -18,6 +18,9 @@ endif()
 if(TARGET wheeltec-ros2)
   install(FILES systemd/wheeltec-ros2.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
 endif()
+if(TARGET wheeltec-record)
+  install(FILES systemd/wheeltec-record.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
+endif()
 install(FILES systemd/80-wheeltec-can.network DESTINATION ${WHEELTEC_NETWORKD_DIR})
 # The serial link: names the controller's USB cable /dev/wheeltec_controller for the group
 # wheeltec (/usr/lib/udev/rules.d/ in the package; udev reads /usr/local/lib/udev/rules.d/ too).
@@ -40,6 +43,9 @@ if(TARGET wheeltec-web)
 endif()
 if(TARGET wheeltec-ros2)
   list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-ros2.1)
+endif()
+if(TARGET wheeltec-record)
+  list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-record.1)
 endif()
 set(WHEELTEC_COMPRESSED_FILES)
 foreach(page IN LISTS WHEELTEC_MAN_PAGES)
@@ -86,7 +92,9 @@ on a virtual CAN interface or a pseudo-terminal; wheeltec-mqtt bridges the
 robot to an MQTT broker for a fleet; wheeltec-web serves a live view (plots,
 odometry, joystick) to browsers and to Foxglove; wheeltec-ros2 publishes the
 robot as ROS 2 topics (odom, imu, tf, diagnostics; cmd_vel in) over Cyclone
-DDS, with no ROS installed (the bridges' services are installed disabled).")
+DDS, with no ROS installed; wheeltec-record is the black box, writing the
+minute around each incident to an MCAP file for Foxglove (the bridges' and the
+recorder's services are installed disabled).")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
