@@ -399,6 +399,13 @@ TEST(RpcTopics, KnownTopicsInRequestOrderWithoutDuplicates) {
             (std::vector<std::string>{"status", "telemetry"}));
 }
 
+TEST(RpcTopics, EventsIsATopic) {
+  EXPECT_EQ(topics_ok({{"topics", {"events"}}}), (std::vector<std::string>{"events"}));
+  EXPECT_EQ(topics_ok({{"topics", {"events", "telemetry", "status"}}}),
+            (std::vector<std::string>{"events", "telemetry", "status"}));
+  EXPECT_TRUE(contains(topics_error({{"topics", {"event"}}}).message, "events")) << "the known topics are listed";
+}
+
 TEST(RpcTopics, UnknownTopicIsNamed) {
   EXPECT_TRUE(contains(topics_error({{"topics", {"telemetry", "odom"}}}).message, "\"odom\""));
   EXPECT_TRUE(contains(topics_error({{"topics", {"Telemetry"}}}).message, "\"Telemetry\""));
@@ -412,6 +419,59 @@ TEST(RpcTopics, MalformedParams) {
   EXPECT_EQ(topics_error({{"topics", {"status"}}, {"all", true}}).message, "unknown param \"all\"");
   topics_error(nullptr);
   topics_error(json::array({"telemetry"}));
+}
+
+std::string_view mark_text(const Request& request) {
+  auto parsed = parse_mark_params(request);
+  if (auto* error = std::get_if<Error>(&parsed)) {
+    ADD_FAILURE() << error->message;
+    return {};
+  }
+  return std::get<std::string_view>(parsed);
+}
+
+Error mark_error(const json& params) {
+  auto parsed = parse_mark_params(with_params(params, 9));
+  if (!std::holds_alternative<Error>(parsed)) {
+    ADD_FAILURE() << "expected an error for " << params.dump();
+    return {};
+  }
+  const Error e = std::get<Error>(parsed);
+  EXPECT_EQ(e.code, kInvalidParams);
+  EXPECT_EQ(e.id, json(9));
+  return e;
+}
+
+TEST(RpcMark, TheTextAsGivenEmptyIncluded) {
+  const Request request = with_params({{"text", "bumped the door \"A\"\n"}});
+  EXPECT_EQ(mark_text(request), "bumped the door \"A\"\n");
+  EXPECT_EQ(mark_text(with_params({{"text", ""}})), "");
+}
+
+// The limit counts characters (code points): 200 of them fit however many bytes they take.
+TEST(RpcMark, AtMost200CharactersNotBytes) {
+  EXPECT_EQ(kMaxMarkCharacters, 200u);
+  EXPECT_EQ(mark_text(with_params({{"text", std::string(200, 'x')}})).size(), 200u);
+  std::string wide;
+  for (int i = 0; i < 200; ++i) wide += "\xF0\x9F\xA4\x96";  // U+1F916, 4 bytes each
+  EXPECT_EQ(mark_text(with_params({{"text", wide}})).size(), 800u);
+  std::string accents;
+  for (int i = 0; i < 200; ++i) accents += "\xC3\xA9";  // é
+  EXPECT_EQ(mark_text(with_params({{"text", accents}})).size(), 400u);
+
+  EXPECT_EQ(mark_error({{"text", std::string(201, 'x')}}).message,
+            "text has 201 characters, more than the 200 a mark may have");
+  EXPECT_TRUE(contains(mark_error({{"text", accents + "a"}}).message, "201 characters"));
+}
+
+TEST(RpcMark, MissingNonStringAndUnknownParamsAreRefused) {
+  EXPECT_EQ(mark_error(json::object()).message, "missing param \"text\"");
+  EXPECT_EQ(mark_error({{"text", 42}}).message, "text must be a string, got number");
+  EXPECT_EQ(mark_error({{"text", nullptr}}).message, "text must be a string, got null");
+  EXPECT_EQ(mark_error({{"text", json::array({"a"})}}).message, "text must be a string, got array");
+  EXPECT_EQ(mark_error({{"text", "a"}, {"level", 1}}).message, "unknown param \"level\"");
+  EXPECT_TRUE(contains(mark_error(nullptr).message, "must be an object"));
+  EXPECT_TRUE(contains(mark_error(json::array({"a"})).message, "must be an object"));
 }
 
 // Hostile request lines (issue #4): duplicate keys, huge numbers and mixed garbage get
