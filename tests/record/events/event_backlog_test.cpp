@@ -13,21 +13,19 @@
 namespace record_tests {
 namespace {
 
-using EventsBacklog = serial_tests::SerialTest;
+using EventsBacklog = EventsTest;
 
 std::uint64_t events_dropped(RpcConnection& client) { return client.call("stats")["api"]["events_dropped"]; }
 
 TEST_F(EventsBacklog, ANonReaderLosesEventsCountedWhileOthersGetEveryOneAndDrivingGoesOn) {
-  fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_ready();
-  EventWatch reader(daemon);
-  auto lazy = daemon.connect();
+  start();
+  EventWatch& reader = watch();
+  auto lazy = connect();
   EXPECT_EQ(lazy.call("subscribe", {{"topics", {"events"}}}), Json({{"topics", {"events"}}}));
   // From here on `lazy` is never read.
-  auto marker = daemon.connect();
-  auto driver = daemon.connect();
-  auto stats = daemon.connect();
-  for (int i = 0; i < 4; ++i) reader.next("connected");
+  auto marker = connect();
+  auto driver = connect();
+  auto stats = connect();
   EXPECT_EQ(events_dropped(stats), 0u);
 
   // Batches of marks, pipelined; the reader takes each batch's events before the next.

@@ -47,4 +47,18 @@ void EventWatch::sync() {
   }
 }
 
+SerialDaemon& EventsTest::start(serial_tests::DaemonOptions options) {
+  fake_->start_telemetry();
+  daemon_ = &start_daemon_ready(std::move(options));
+  watch_ = std::make_unique<EventWatch>(*daemon_);
+  return *daemon_;
+}
+
+RpcConnection EventsTest::connect(Json* id) {
+  RpcConnection client = daemon_->connect();
+  const Json connected = watch_->next("connected");
+  if (id != nullptr) *id = connected["client"];
+  return client;
+}
+
 }  // namespace record_tests

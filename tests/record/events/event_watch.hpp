@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -40,5 +41,21 @@ class EventWatch {
 };
 
 using serial_tests::wall_seconds_now;
+
+// Every events test: the fake controller sending telemetry, wheeltecd ready on it, and a
+// watch of its events.
+class EventsTest : public serial_tests::SerialTest {
+ protected:
+  SerialDaemon& start(serial_tests::DaemonOptions options = {});
+  // A new connection; its client id (from its connected event) in `id` when given.
+  RpcConnection connect(Json* id = nullptr);
+
+  SerialDaemon& daemon() { return *daemon_; }
+  EventWatch& watch() { return *watch_; }
+
+ private:
+  SerialDaemon* daemon_ = nullptr;
+  std::unique_ptr<EventWatch> watch_;
+};
 
 }  // namespace record_tests

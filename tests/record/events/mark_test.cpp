@@ -10,7 +10,7 @@
 namespace record_tests {
 namespace {
 
-using EventsMark = serial_tests::SerialTest;
+using EventsMark = EventsTest;
 
 std::string repeated(const std::string& piece, int times) {
   std::string text;
@@ -19,20 +19,17 @@ std::string repeated(const std::string& piece, int times) {
 }
 
 TEST_F(EventsMark, TwoHundredCharactersAreAMarkTwoHundredAndOneAreNot) {
-  fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_ready();
-  EventWatch watch(daemon);
-  auto client = daemon.connect();
-  watch.next("connected");
+  start();
+  auto client = connect();
 
   // 200 characters of one, two and four bytes each.
   for (const std::string& piece : {std::string("x"), std::string("\xC3\xA9"), std::string("\xF0\x9F\xA4\x96")}) {
     const std::string text = repeated(piece, 200);
     EXPECT_EQ(client.call("mark", {{"text", text}}), Json::object()) << piece;
-    EXPECT_EQ(watch.next("mark")["text"], text);
+    EXPECT_EQ(watch().next("mark")["text"], text);
   }
   EXPECT_EQ(client.call("mark", {{"text", ""}}), Json::object()) << "an empty mark is a mark";
-  EXPECT_EQ(watch.next("mark")["text"], "");
+  EXPECT_EQ(watch().next("mark")["text"], "");
 
   for (const std::string& piece : {std::string("x"), std::string("\xC3\xA9")}) {
     const Json response = client.request("mark", {{"text", repeated(piece, 201)}});
@@ -41,15 +38,12 @@ TEST_F(EventsMark, TwoHundredCharactersAreAMarkTwoHundredAndOneAreNot) {
     EXPECT_NE(response["error"]["message"].get<std::string>().find("201 characters"), std::string::npos)
         << response.dump();
   }
-  watch.expect_none(200ms);
+  watch().expect_none(200ms);
 }
 
 TEST_F(EventsMark, TextMustBeAStringAndTheOnlyParam) {
-  fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_ready();
-  EventWatch watch(daemon);
-  auto client = daemon.connect();
-  watch.next("connected");
+  start();
+  auto client = connect();
   for (const Json& params : {Json({{"text", 42}}), Json({{"text", nullptr}}), Json({{"text", {"a", "b"}}}),
                              Json({{"text", {{"a", 1}}}}), Json({{"text", true}}), Json::object(),
                              Json({{"text", "a"}, {"level", "warn"}}), Json::array({"a"})}) {
@@ -59,9 +53,9 @@ TEST_F(EventsMark, TextMustBeAStringAndTheOnlyParam) {
   }
   const Json absent = client.request("mark");
   EXPECT_EQ(absent["error"]["code"], -32602) << absent.dump();
-  watch.expect_none(200ms);
+  watch().expect_none(200ms);
   EXPECT_EQ(client.call("mark", {{"text", "still connected"}}), Json::object());
-  watch.next("mark");
+  watch().next("mark");
 }
 
 TEST_F(EventsMark, VersionIsProtocol4) {

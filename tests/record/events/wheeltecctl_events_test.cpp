@@ -17,7 +17,7 @@
 namespace record_tests {
 namespace {
 
-using EventsCli = serial_tests::SerialTest;
+using EventsCli = EventsTest;
 using integration::ChildProcess;
 using integration::CompletedProcess;
 
@@ -58,31 +58,28 @@ class Wheeltecctl {
 };
 
 TEST_F(EventsCli, MarkPrintsOkAndTheDaemonPublishesTheText) {
-  fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_ready();
-  EventWatch watch(daemon);
-  const Wheeltecctl ctl(daemon, directory_->path());
+  start();
+  const Wheeltecctl ctl(daemon(), directory_->path());
 
   const CompletedProcess marked = ctl.run({"mark", "bumped", "the", "door"});
   EXPECT_TRUE(marked.status.exited_with(0)) << marked.describe();
   EXPECT_EQ(marked.out, "ok\n");
-  const Json connected = watch.next("connected");
-  const Json mark = watch.next("mark");
+  const Json connected = watch().next("connected");
+  const Json mark = watch().next("mark");
   EXPECT_EQ(mark["text"], "bumped the door") << "the words joined by spaces";
   EXPECT_EQ(mark["client"], connected["client"]);
-  watch.next("disconnected");
+  watch().next("disconnected");
 
   const CompletedProcess json = ctl.run({"--json", "mark", "one word"});
   EXPECT_TRUE(json.status.exited_with(0)) << json.describe();
   EXPECT_EQ(json.out, "{}\n");
-  watch.next("connected");
-  EXPECT_EQ(watch.next("mark")["text"], "one word");
+  watch().next("connected");
+  EXPECT_EQ(watch().next("mark")["text"], "one word");
 }
 
 TEST_F(EventsCli, ATooLongMarkExitsOneWithTheDaemonsMessage) {
-  fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_ready();
-  const Wheeltecctl ctl(daemon, directory_->path());
+  start();
+  const Wheeltecctl ctl(daemon(), directory_->path());
   const CompletedProcess refused = ctl.run({"mark", std::string(201, 'x')});
   EXPECT_TRUE(refused.status.exited_with(1)) << refused.describe();
   EXPECT_EQ(refused.out, "");
@@ -94,10 +91,9 @@ TEST_F(EventsCli, ATooLongMarkExitsOneWithTheDaemonsMessage) {
 
 // `events -n 3` prints three lines, one per event as it happens, and exits 0.
 TEST_F(EventsCli, EventsPrintsOneLinePerEventUntilTheCount) {
-  fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_ready();
-  const Wheeltecctl ctl(daemon, directory_->path());
-  auto marker = daemon.connect();
+  start();
+  const Wheeltecctl ctl(daemon(), directory_->path());
+  auto marker = connect();
   auto events = ctl.start({"events", "-n", "3"});
   // Until it has subscribed and seen three marks.
   int sent = 0;
@@ -122,10 +118,9 @@ TEST_F(EventsCli, EventsPrintsOneLinePerEventUntilTheCount) {
 
 // --json: the EVENT objects, one per line.
 TEST_F(EventsCli, JsonEventsPrintsTheEventObjects) {
-  fake_->start_telemetry();
-  SerialDaemon& daemon = start_daemon_ready();
-  const Wheeltecctl ctl(daemon, directory_->path());
-  auto driver = daemon.connect();
+  start();
+  const Wheeltecctl ctl(daemon(), directory_->path());
+  auto driver = connect();
   auto events = ctl.start({"--json", "events", "-n", "2"});
   while (events->running()) {
     driver.call("drive", {{"vx", 0.1}});
@@ -149,36 +144,34 @@ TEST_F(EventsCli, JsonEventsPrintsTheEventObjects) {
 // refused with -32005, and the refusals are events.
 TEST_F(EventsCli, AUserWithoutControlRightsMarksAndIsRefusedEnableAndDisable) {
   if (::geteuid() != 0) GTEST_SKIP() << "needs root to run wheeltecctl as another user";
-  fake_->start_telemetry();
   ASSERT_EQ(::chmod(directory_->path().c_str(), 0755), 0);
   serial_tests::DaemonOptions options;
   options.config_patch = {{"api", {{"mode", "0666"}}}};
-  SerialDaemon& daemon = start_daemon_ready(options);
-  EventWatch watch(daemon);
-  const Wheeltecctl ctl(daemon, directory_->path());
+  start(options);
+  const Wheeltecctl ctl(daemon(), directory_->path());
 
   const CompletedProcess marked = ctl.run_as_nobody({"mark", "seen by nobody"});
   EXPECT_TRUE(marked.status.exited_with(0)) << marked.describe();
-  const Json connected = watch.next("connected");
+  const Json connected = watch().next("connected");
   EXPECT_EQ(connected["uid"], 65534);
   EXPECT_EQ(connected["gid"], 65534);
-  EXPECT_EQ(watch.next("mark")["text"], "seen by nobody");
-  watch.next("disconnected");
+  EXPECT_EQ(watch().next("mark")["text"], "seen by nobody");
+  watch().next("disconnected");
 
   for (const char* method : {"enable", "disable"}) {
     const CompletedProcess refused = ctl.run_as_nobody({method});
     EXPECT_TRUE(refused.status.exited_with(1)) << refused.describe();
     EXPECT_NE(refused.err.find("(code -32005)"), std::string::npos) << refused.err;
-    const Json client = watch.next("connected")["client"];
-    const Json event = watch.next("refused");
+    const Json client = watch().next("connected")["client"];
+    const Json event = watch().next("refused");
     EXPECT_EQ(event["client"], client);
     EXPECT_EQ(event["method"], method);
     EXPECT_EQ(event["code"], -32005);
     EXPECT_NE(refused.err.find(event["message"].get<std::string>()), std::string::npos)
         << "the message wheeltecctl printed: " << refused.err << "\n" << event.dump();
-    watch.next("disconnected");
+    watch().next("disconnected");
   }
-  EXPECT_EQ(daemon.connect().call("status")["control"]["enabled"], true) << "nothing was disabled";
+  EXPECT_EQ(daemon().connect().call("status")["control"]["enabled"], true) << "nothing was disabled";
 }
 
 }  // namespace
