@@ -52,9 +52,8 @@ int run(int argc, char** argv) {
   std::int64_t events_count = 0;
   CLI::App* events = app.add_subcommand(
       "events",
-      "Stream the daemon's events, one line each: clients connecting and leaving, drives,\n"
-      "refusals, stops, the deadman, enable, disable, marks, reloads. --json prints each\n"
-      "event's JSON object");
+      "Stream the daemon's events, one line each (--json: each event's JSON object):\n"
+      "clients coming and going, drives, refusals, stop, the deadman, marks, reloads");
   events->add_option("-n,--count", events_count, "Stop after COUNT events (0: until Ctrl-C)")
       ->check(wheeltec::command_line::finite_in(0.0).description(""))
       ->type_name("COUNT");
@@ -62,9 +61,9 @@ int run(int argc, char** argv) {
   std::vector<std::string> mark_words;
   CLI::App* mark = app.add_subcommand(
       "mark",
-      "Note this moment in the daemon's events (a \"mark\" event, for the black box): TEXT,\n"
-      "several words joined by spaces, at most 200 characters");
-  mark->add_option("text", mark_words, "What to note")->required()->expected(1, -1)->type_name("TEXT...");
+      "Note this moment in the daemon's events for the black box: a \"mark\" event with\n"
+      "TEXT (several words are joined by spaces; at most 200 characters)");
+  mark->add_option("text", mark_words, "What to note")->required()->expected(1, -1)->type_name("TEXT");
 
   std::vector<std::string> drive_values;
   double drive_seconds = 1.0;
