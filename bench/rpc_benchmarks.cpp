@@ -20,6 +20,7 @@
 #include "client_state.hpp"
 #include "control_io.hpp"
 #include "control_loop.hpp"
+#include "event_fanout.hpp"
 #include "rpc_handler.hpp"
 #include "status_report.hpp"
 
@@ -62,12 +63,13 @@ void BM_StatusRequestThroughRpcHandler(benchmark::State& state) {
   TelemetryDecoder telemetry(config.telemetry.low_battery_v);
   ChassisSupervisor supervisor(daemon::supervisor_settings(config));
   daemon::ControlIo control_io(io, link, config);
-  daemon::ControlLoop control(control_io.ports(), supervisor, config);
+  daemon::EventFanout events;  // no subscribers: events cost nothing
+  daemon::ControlLoop control(control_io.ports(), supervisor, config, events);
   daemon::ApiCounters counters;
   const daemon::StatusIdentity identity{config.transport, config.can.interface, config.chassis.type,
                                         config.can.dialect};
   daemon::RpcHandler handler(
-      control, telemetry, config.chassis.type, config.transport, counters,
+      control, telemetry, config.chassis.type, config.transport, counters, events,
       [&] { return daemon::status_to_json(identity, daemon::StatusFields{}, 12.3, std::nullopt); },
       [] { return json::object(); });
   daemon::ClientState client;

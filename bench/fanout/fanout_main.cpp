@@ -59,6 +59,7 @@
 #include "control_io.hpp"
 #include "control_loop.hpp"
 #include "control_policy.hpp"
+#include "event_fanout.hpp"
 #include "rpc_handler.hpp"
 
 #include "bench_clock.hpp"
@@ -121,10 +122,10 @@ class DaemonPath final : public GatewayUnderTest {
         telemetry_(20.0),
         supervisor_(supervisor_settings(config_)),
         control_io_(io_, link_, config_),
-        control_(control_io_.ports(), supervisor_, config_),
-        rpc_(control_, telemetry_, config_.chassis.type, config_.transport, counters_, [] { return json::object(); },
-             [] { return json::object(); }),
-        api_(io_, config_.api, std::nullopt, ControlPolicy(config_.api, ::getuid()), rpc_, counters_),
+        control_(control_io_.ports(), supervisor_, config_, events_),
+        rpc_(control_, telemetry_, config_.chassis.type, config_.transport, counters_, events_,
+             [] { return json::object(); }, [] { return json::object(); }),
+        api_(io_, config_.api, std::nullopt, ControlPolicy(config_.api, ::getuid()), rpc_, counters_, events_),
         frames_(io_),
         reader_(frames_, [this](std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
           on_frames(frames, ec);
@@ -177,6 +178,7 @@ class DaemonPath final : public GatewayUnderTest {
   boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_{io_.get_executor()};
   GatewayConfig config_;
   ApiCounters counters_;
+  EventFanout events_;  // not attached to api_: the subscribers here take telemetry only
   CanChassisLink link_;  // never started: the ControlLoop (and so the RpcHandler) needs one
   TelemetryReassembler reassembler_;
   TelemetryDecoder telemetry_;

@@ -2,8 +2,8 @@
 # Test stage: the tests again under AddressSanitizer + LeakSanitizer +
 # UndefinedBehaviorSanitizer, in one build:
 #   - the unit tests always (they need no CAN interface and run on the host);
-#   - the serial suites always (ctest -L serial: wheeltecd and wheeltec-emu on
-#     pseudo-terminals, which need no CAN interface either);
+#   - the serial suites and the events suites always (ctest -L serial, ctest -L record:
+#     wheeltecd and wheeltec-emu on pseudo-terminals, which need no CAN interface either);
 #   - where scripts/vcan-run runs natively (a host with the vcan module), also the
 #     integration suites that need no CAN interface and every vcan suite (ctest -L vcan).
 #   - Inside User-Mode Linux (a kernel without SocketCAN) the vcan suites are not run
@@ -45,7 +45,7 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:dete
 
 failed=0
 build=$prefix
-targets=(unit_tests serial_tests)
+targets=(unit_tests serial_tests record_tests)
 [[ -f $BUILD_DIR/tests/mqtt/mqtt_unit_tests ]] && targets+=(mqtt_unit_tests)
 [[ -f $BUILD_DIR/tests/web/web_unit_tests ]] && targets+=(web_unit_tests)
 [[ -f $BUILD_DIR/tests/ros2/unit/ros2_unit_tests ]] && targets+=(ros2_unit_tests)
@@ -74,6 +74,8 @@ if [[ " ${targets[*]} " == *" mcap_unit_tests "* ]]; then
 fi
 echo "sanitizers: serial suites"
 (cd "$build" && ctest -L serial --output-on-failure) || failed=1
+echo "sanitizers: events suites"
+(cd "$build" && ctest -L record --output-on-failure) || failed=1
 if [[ $vcan == native ]]; then
   echo "sanitizers: command-line integration tests"
   "$build/tests/integration/integration_tests" --gtest_filter='CommandLine.*:EmulatorCommandLine.*' --gtest_color=no \
