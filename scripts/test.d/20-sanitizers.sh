@@ -2,8 +2,9 @@
 # Test stage: the tests again under AddressSanitizer + LeakSanitizer +
 # UndefinedBehaviorSanitizer, in one build:
 #   - the unit tests always (they need no CAN interface and run on the host);
-#   - the serial suites and the events suites always (ctest -L serial, ctest -L record:
-#     wheeltecd and wheeltec-emu on pseudo-terminals, which need no CAN interface either);
+#   - the serial suites and the daemon's events suites always (ctest -L serial, ctest -R
+#     '^record\.Events': wheeltecd and wheeltec-emu on pseudo-terminals, which need no CAN
+#     interface either);
 #   - where scripts/vcan-run runs natively (a host with the vcan module), also the
 #     integration suites that need no CAN interface and every vcan suite (ctest -L vcan).
 #   - Inside User-Mode Linux (a kernel without SocketCAN) the vcan suites are not run
@@ -74,8 +75,8 @@ if [[ " ${targets[*]} " == *" mcap_unit_tests "* ]]; then
 fi
 echo "sanitizers: serial suites"
 (cd "$build" && ctest -L serial --output-on-failure) || failed=1
-echo "sanitizers: events suites"
-(cd "$build" && ctest -L record --output-on-failure) || failed=1
+echo "sanitizers: the daemon's events suites"
+(cd "$build" && ctest -R '^record\.Events' --output-on-failure) || failed=1
 if [[ $vcan == native ]]; then
   echo "sanitizers: command-line integration tests"
   "$build/tests/integration/integration_tests" --gtest_filter='CommandLine.*:EmulatorCommandLine.*' --gtest_color=no \
