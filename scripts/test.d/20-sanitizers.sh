@@ -47,10 +47,15 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:dete
 failed=0
 build=$prefix
 targets=(unit_tests serial_tests record_tests)
-[[ -f $BUILD_DIR/tests/mqtt/mqtt_unit_tests ]] && targets+=(mqtt_unit_tests)
-[[ -f $BUILD_DIR/tests/web/web_unit_tests ]] && targets+=(web_unit_tests)
-[[ -f $BUILD_DIR/tests/ros2/unit/ros2_unit_tests ]] && targets+=(ros2_unit_tests)
-[[ -f $BUILD_DIR/tests/mcap/mcap_unit_tests ]] && targets+=(mcap_unit_tests)
+# The unit tests of the optional parts, where the main build has them.
+unit_programs=(tests/unit/unit_tests)
+for program in tests/mqtt/mqtt_unit_tests tests/web/web_unit_tests tests/ros2/unit/ros2_unit_tests \
+    tests/mcap/mcap_unit_tests tests/record/unit/record_unit_tests tests/record/unit/black_box_tests; do
+  if [[ -f $BUILD_DIR/$program ]]; then
+    unit_programs+=("$program")
+    targets+=("$(basename "$program")")
+  fi
+done
 if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
   vcan=native
   targets+=(integration_tests)
@@ -60,19 +65,9 @@ fi
 echo "sanitizers: ASan, LSan and UBSan build of ${targets[*]} in $build"
 configure_and_build_with "$build" "-fsanitize=address,undefined" "${targets[@]}"
 echo "sanitizers: unit tests"
-"$build/tests/unit/unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-if [[ " ${targets[*]} " == *" mqtt_unit_tests "* ]]; then
-  "$build/tests/mqtt/mqtt_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-fi
-if [[ " ${targets[*]} " == *" web_unit_tests "* ]]; then
-  "$build/tests/web/web_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-fi
-if [[ " ${targets[*]} " == *" ros2_unit_tests "* ]]; then
-  "$build/tests/ros2/unit/ros2_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-fi
-if [[ " ${targets[*]} " == *" mcap_unit_tests "* ]]; then
-  "$build/tests/mcap/mcap_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-fi
+for program in "${unit_programs[@]}"; do
+  "$build/$program" --gtest_color=no --gtest_brief=1 || failed=1
+done
 echo "sanitizers: serial suites"
 (cd "$build" && ctest -L serial --output-on-failure) || failed=1
 echo "sanitizers: the daemon's events suites"

@@ -37,6 +37,7 @@ class Recorder : public serial_tests::SerialTest {
     records_ = directory_->path() / "records";
     empty_config_ = *directory_ / "wheeltec-record.json";
     std::ofstream(empty_config_) << "{}\n";
+    fake_->start_telemetry();
   }
 
   // The recorder on the daemon's socket, writing to records_.
@@ -52,7 +53,7 @@ class Recorder : public serial_tests::SerialTest {
   void wait_recording(const SerialDaemon& daemon, int clients) {
     auto client = daemon.connect();
     const auto deadline = std::chrono::steady_clock::now() + 5s;
-    while (client.call("stats")["api"]["clients"].get<int>() < clients + 2) {  // this one and the recorder
+    while (client.call("stats")["clients"].get<int>() < clients + 2) {  // this one and the recorder
       ASSERT_LT(std::chrono::steady_clock::now(), deadline) << logs() << recorder_->output_report();
       std::this_thread::sleep_for(20ms);
     }
@@ -240,7 +241,8 @@ TEST_F(Recorder, ContinuousFilesMeetWithoutGapOrRepeat) {
   ASSERT_GE(files.size(), 3u);
   std::vector<std::uint64_t> sequence;
   for (const std::string& name : files) {
-    for (const auto* message : on(read_back(name), kTelemetry)) {
+    const mcap_test::ReadFile file = read_back(name);
+    for (const auto* message : on(file, kTelemetry)) {
       sequence.push_back(Json::parse(message->payload)["seq"].get<std::uint64_t>());
     }
   }
