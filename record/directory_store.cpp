@@ -19,23 +19,13 @@ namespace {
   throw std::system_error(errno, std::generic_category(), what);
 }
 
-class Descriptor {
- public:
-  explicit Descriptor(int fd) : fd_(fd) {}
-  ~Descriptor() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  Descriptor(const Descriptor&) = delete;
-  Descriptor& operator=(const Descriptor&) = delete;
-  int get() const { return fd_; }
-
- private:
-  int fd_;
-};
-
 void sync_directory(const std::filesystem::path& directory) {
-  const Descriptor fd(::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
-  if (fd.get() < 0 || ::fsync(fd.get()) != 0) throw_errno(directory.string());
+  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) throw_errno(directory.string());
+  const int synced = ::fsync(fd);
+  const int sync_errno = errno;
+  ::close(fd);
+  if (synced != 0) throw std::system_error(sync_errno, std::generic_category(), directory.string());
 }
 
 class DirectoryFile : public FileOutput {
@@ -45,14 +35,17 @@ class DirectoryFile : public FileOutput {
         name_(std::move(name)),
         part_(directory_ / part_name(name_)),
         fd_(::open(part_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0640)) {
-    if (fd_.get() < 0) throw_errno(part_.string());
+    if (fd_ < 0) throw_errno(part_.string());
   }
+  ~DirectoryFile() override { ::close(fd_); }
+  DirectoryFile(const DirectoryFile&) = delete;
+  DirectoryFile& operator=(const DirectoryFile&) = delete;
 
   void write(mcap::ByteView bytes) override {
     const auto* data = reinterpret_cast<const char*>(bytes.data());
     std::size_t left = bytes.size();
     while (left > 0) {
-      const ssize_t written = ::write(fd_.get(), data, left);
+      const ssize_t written = ::write(fd_, data, left);
       if (written < 0 && errno == EINTR) continue;
       if (written < 0) throw_errno(part_.string());
       data += written;
@@ -61,7 +54,7 @@ class DirectoryFile : public FileOutput {
   }
 
   void commit() override {
-    if (::fsync(fd_.get()) != 0) throw_errno(part_.string());
+    if (::fsync(fd_) != 0) throw_errno(part_.string());
     const std::filesystem::path whole = directory_ / name_;
     if (::rename(part_.c_str(), whole.c_str()) != 0) throw_errno(whole.string());
     sync_directory(directory_);
@@ -71,7 +64,7 @@ class DirectoryFile : public FileOutput {
   std::filesystem::path directory_;
   std::string name_;
   std::filesystem::path part_;
-  Descriptor fd_;
+  int fd_;
 };
 
 }  // namespace

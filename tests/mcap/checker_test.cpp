@@ -16,9 +16,8 @@
 
 namespace {
 
-using mcap_test::RawRecord;
-using wheeltec::mcap::Bytes;
-using wheeltec::mcap::text_bytes;
+using namespace mcap_test;
+using namespace wheeltec::mcap;
 
 Bytes good_file() {
   const auto s = mcap_test::sample_channels();

@@ -10,12 +10,8 @@
 
 namespace {
 
-using mcap_test::FieldReader;
-using mcap_test::RawRecord;
-using wheeltec::mcap::Chunk;
-using wheeltec::mcap::ChunkBuilder;
-using wheeltec::mcap::Error;
-using wheeltec::mcap::text_bytes;
+using namespace mcap_test;
+using namespace wheeltec::mcap;
 
 std::vector<RawRecord> inner_records(const Chunk& chunk, wheeltec::mcap::Bytes& storage) {
   storage = mcap_test::zstd_decompress(chunk.compressed, chunk.uncompressed_size);

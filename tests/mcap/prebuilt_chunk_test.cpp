@@ -12,14 +12,8 @@
 
 namespace {
 
-using mcap_test::check_mcap;
-using mcap_test::memory_sink;
-using wheeltec::mcap::Bytes;
-using wheeltec::mcap::Chunk;
-using wheeltec::mcap::ChunkBuilder;
-using wheeltec::mcap::Error;
-using wheeltec::mcap::text_bytes;
-using wheeltec::mcap::Writer;
+using namespace mcap_test;
+using namespace wheeltec::mcap;
 
 // Three chunks of a second each: telemetry at 10 Hz and an event in the middle one.
 std::vector<Chunk> ring(const mcap_test::SampleChannels& s) {

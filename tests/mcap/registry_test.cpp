@@ -7,11 +7,8 @@
 
 namespace {
 
-using mcap_test::FieldReader;
-using mcap_test::split_records;
-using wheeltec::mcap::Error;
-using wheeltec::mcap::Registry;
-using wheeltec::mcap::text_bytes;
+using namespace mcap_test;
+using namespace wheeltec::mcap;
 
 TEST(Registry, IdsCountFromOneInTheOrderAdded) {
   const auto s = mcap_test::sample_channels();

@@ -10,12 +10,8 @@
 
 namespace {
 
-using mcap_test::memory_sink;
-using wheeltec::mcap::Bytes;
-using wheeltec::mcap::ByteView;
-using wheeltec::mcap::Error;
-using wheeltec::mcap::text_bytes;
-using wheeltec::mcap::Writer;
+using namespace mcap_test;
+using namespace wheeltec::mcap;
 
 TEST(WriterErrors, UnknownChannelIsRefusedAndTheFileStaysWhole) {
   const auto s = mcap_test::sample_channels();

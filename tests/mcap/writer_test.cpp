@@ -13,12 +13,8 @@
 
 namespace {
 
-using mcap_test::check_mcap;
-using mcap_test::memory_sink;
-using wheeltec::mcap::Bytes;
-using wheeltec::mcap::text_bytes;
-using wheeltec::mcap::Writer;
-using wheeltec::mcap::WriterOptions;
+using namespace mcap_test;
+using namespace wheeltec::mcap;
 
 constexpr std::uint64_t kSecond = 1'000'000'000;
 constexpr std::uint64_t kStart = 1'790'000'000 * kSecond;

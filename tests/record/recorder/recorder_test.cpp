@@ -59,6 +59,19 @@ class Recorder : public serial_tests::SerialTest {
     }
   }
 
+  // A recorder a second into an incident of a minute: its file is still a .part.
+  ChildProcess& recorder_in_a_long_incident() {
+    SerialDaemon& daemon = start_daemon_ready();
+    ChildProcess& recorder = start_recorder(daemon, {"--before", "2", "--after", "60"});
+    wait_recording(daemon, 0);
+    std::this_thread::sleep_for(2s);
+    daemon.connect().call("mark", {{"text", "a long one"}});
+    std::this_thread::sleep_for(1s);
+    EXPECT_TRUE(names_ending(".mcap").empty());
+    EXPECT_EQ(names_ending(".mcap.part").size(), 1u);
+    return recorder;
+  }
+
   std::vector<std::string> names_ending(const std::string& suffix) const {
     std::vector<std::string> names;
     if (!fs::exists(records_)) return names;
@@ -183,14 +196,7 @@ TEST_F(Recorder, ASecondTriggerInsideTheWindowExtendsTheFile) {
 }
 
 TEST_F(Recorder, SigtermMidIncidentLeavesAWholeFile) {
-  SerialDaemon& daemon = start_daemon_ready();
-  ChildProcess& recorder = start_recorder(daemon, {"--before", "2", "--after", "60"});
-  wait_recording(daemon, 0);
-  std::this_thread::sleep_for(2s);
-  daemon.connect().call("mark", {{"text", "then stop"}});
-  std::this_thread::sleep_for(1s);
-  EXPECT_TRUE(names_ending(".mcap").empty());
-  EXPECT_EQ(names_ending(".mcap.part").size(), 1u);
+  ChildProcess& recorder = recorder_in_a_long_incident();
   EXPECT_TRUE(recorder.terminate().exited_with(0)) << recorder.output_report();
   const auto files = names_ending(".mcap");
   ASSERT_EQ(files.size(), 1u);
@@ -199,12 +205,7 @@ TEST_F(Recorder, SigtermMidIncidentLeavesAWholeFile) {
 }
 
 TEST_F(Recorder, SigkillLeavesNoBrokenFileUnderAFinalName) {
-  SerialDaemon& daemon = start_daemon_ready();
-  ChildProcess& recorder = start_recorder(daemon, {"--before", "2", "--after", "60"});
-  wait_recording(daemon, 0);
-  std::this_thread::sleep_for(2s);
-  daemon.connect().call("mark", {{"text", "then die"}});
-  std::this_thread::sleep_for(1s);
+  ChildProcess& recorder = recorder_in_a_long_incident();
   recorder.kill();
   EXPECT_TRUE(names_ending(".mcap").empty());
   EXPECT_EQ(names_ending(".mcap.part").size(), 1u);

@@ -98,6 +98,12 @@ class Feed {
       if (++steps_ % 5 == 0) box_.on_tick(now_);
     }
   }
+  // An event of this kind from client 3, now; returns its time.
+  RealtimeNanos event(const std::string& kind) {
+    box_.on_event(event_at(now_, kind), now_);
+    return now_;
+  }
+  void status(const Json& status) { box_.on_status(status, now_); }
   RealtimeNanos now() const { return now_; }
   int records() const { return seq_; }
 
@@ -131,10 +137,9 @@ TEST(BlackBox, AMarkWritesOneFileFromBeforeTheTriggerToAfterIt) {
   MemoryStore store;
   BlackBox box(settings(10s, 2s), store);
   Feed feed(box, kStart);
-  box.on_status(status_ready(), feed.now());
+  feed.status(status_ready());
   feed.run_for(20s);
-  const RealtimeNanos marked = feed.now();
-  box.on_event(event_at(marked, "mark"), marked);
+  const RealtimeNanos marked = feed.event("mark");
   feed.run_for(5s);
 
   const std::string name = file_name(marked, Trigger::mark);
@@ -164,13 +169,11 @@ TEST(BlackBox, ASecondTriggerInsideTheWindowExtendsTheSameFile) {
   MemoryStore store;
   BlackBox box(settings(5s, 2s), store);
   Feed feed(box, kStart);
-  box.on_status(status_ready(), feed.now());
+  feed.status(status_ready());
   feed.run_for(10s);
-  const RealtimeNanos first = feed.now();
-  box.on_event(event_at(first, "mark"), first);
+  const RealtimeNanos first = feed.event("mark");
   feed.run_for(1500ms);
-  const RealtimeNanos second = feed.now();
-  box.on_event(event_at(second, "deadman"), second);
+  const RealtimeNanos second = feed.event("deadman");
   feed.run_for(10s);
 
   ASSERT_EQ(store.whole_names(), std::vector<std::string>{file_name(first, Trigger::mark)});
@@ -185,9 +188,9 @@ TEST(BlackBox, ATriggerAfterTheWindowStartsASecondFile) {
   BlackBox box(settings(2s, 1s), store);
   Feed feed(box, kStart);
   feed.run_for(3s);
-  box.on_event(event_at(feed.now(), "mark"), feed.now());
+  feed.event("mark");
   feed.run_for(3s);
-  box.on_event(event_at(feed.now(), "deadman"), feed.now());
+  feed.event("deadman");
   feed.run_for(3s);
   EXPECT_EQ(store.whole_names().size(), 2u);
 }
@@ -196,7 +199,7 @@ TEST(BlackBox, ALostDaemonIsWrittenAtOnce) {
   MemoryStore store;
   BlackBox box(settings(5s, 10s), store);
   Feed feed(box, kStart);
-  box.on_status(status_ready(), feed.now());
+  feed.status(status_ready());
   feed.run_for(8s);
   box.on_daemon_lost(feed.now());
   ASSERT_EQ(store.whole_names(), std::vector<std::string>{file_name(feed.now(), Trigger::daemon_lost)});
@@ -209,8 +212,7 @@ TEST(BlackBox, FinishWritesTheFileInProgressWithWhatItHas) {
   BlackBox box(settings(5s, 10s), store);
   Feed feed(box, kStart);
   feed.run_for(6s);
-  const RealtimeNanos marked = feed.now();
-  box.on_event(event_at(marked, "mark"), marked);
+  const RealtimeNanos marked = feed.event("mark");
   feed.run_for(2s);
   EXPECT_TRUE(store.whole_names().empty());
   box.finish(feed.now());
@@ -226,8 +228,8 @@ TEST(BlackBox, TriggersThatAreOffWriteNothing) {
   BlackBox box(off, store);
   Feed feed(box, kStart);
   feed.run_for(3s);
-  box.on_event(event_at(feed.now(), "mark"), feed.now());
-  box.on_event(event_at(feed.now(), "refused"), feed.now());  // off by default
+  feed.event("mark");
+  feed.event("refused");  // off by default
   feed.run_for(3s);
   box.finish(feed.now());
   EXPECT_TRUE(store.files.empty());
@@ -264,7 +266,7 @@ TEST(BlackBox, RetentionDeletesTheOldestFilesAndKeepsTheNewOne) {
   BlackBox box(small, store);
   Feed feed(box, kStart);
   feed.run_for(4s);
-  box.on_event(event_at(feed.now(), "mark"), feed.now());
+  feed.event("mark");
   feed.run_for(2s);
   const std::string newest = file_name(feed.now() - 2s, Trigger::mark);
   ASSERT_TRUE(store.files.contains(newest));
@@ -281,11 +283,11 @@ TEST(BlackBox, AFileThatCannotBeWrittenIsDroppedAndTheNextOneIsWhole) {
   Feed feed(box, kStart);
   feed.run_for(3s);
   store.full = true;
-  box.on_event(event_at(feed.now(), "mark"), feed.now());
+  feed.event("mark");
   feed.run_for(3s);
   EXPECT_TRUE(store.whole_names().empty());
   store.full = false;
-  box.on_event(event_at(feed.now(), "mark"), feed.now());
+  feed.event("mark");
   feed.run_for(3s);
   ASSERT_EQ(store.whole_names().size(), 1u);
   mcap_test::check_mcap(store.files.at(store.whole_names().front()));
