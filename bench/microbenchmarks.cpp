@@ -23,6 +23,7 @@
 #include "client_state.hpp"
 #include "control_io.hpp"
 #include "control_loop.hpp"
+#include "event_fanout.hpp"
 #include "rpc_handler.hpp"
 #include "status_report.hpp"
 #include "wheeltec/config.hpp"
@@ -56,7 +57,6 @@ void BM_ControlFrameEncode(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_ControlFrameEncode);
-
 // Three frames through the reassembler's checks, then decoding to SI units: the daemon's work per record.
 void BM_ReassembleAndDecodeRecord(benchmark::State& state) {
   const TelemetryGroup group = make_telemetry_group(encode_record(example_raw()));
@@ -77,7 +77,6 @@ void BM_ReassembleAndDecodeRecord(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_ReassembleAndDecodeRecord);
-
 // One record to the complete notification line sent to subscribers.
 void BM_TelemetryNotificationJson(benchmark::State& state) {
   TelemetrySample sample;
@@ -97,7 +96,6 @@ void BM_TelemetryNotificationJson(benchmark::State& state) {
   state.counters["bytes_per_line"] = static_cast<double>(line.size());
 }
 BENCHMARK(BM_TelemetryNotificationJson);
-
 constexpr std::string_view kDriveLine = R"({"jsonrpc":"2.0","id":17,"method":"drive","params":{"vx":0.25,"vy":-0.1,"wz":0.5}})";
 constexpr std::string_view kStatusLine = R"({"jsonrpc":"2.0","id":18,"method":"status"})";
 struct SocketPair {
@@ -120,7 +118,6 @@ void BM_SyscallClockGettime(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_SyscallClockGettime);
-
 // A poll of an epoll set with nothing ready (Asio's extra turn of its loop).
 void BM_SyscallEpollWaitNoWait(benchmark::State& state) {
   SocketPair pair;
@@ -134,7 +131,6 @@ void BM_SyscallEpollWaitNoWait(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_SyscallEpollWaitNoWait);
-
 // A notification's size written to a Unix stream socket and read back: two calls per iteration.
 void BM_SyscallUnixSocketWriteAndRead(benchmark::State& state) {
   SocketPair pair;
@@ -151,7 +147,6 @@ void BM_SyscallUnixSocketWriteAndRead(benchmark::State& state) {
   state.SetItemsProcessed(2 * state.iterations());
 }
 BENCHMARK(BM_SyscallUnixSocketWriteAndRead);
-
 void pin_to(int cpu) {  // the calling thread on one CPU
   cpu_set_t set;
   CPU_ZERO(&set);
@@ -187,7 +182,6 @@ void BM_WakeupFromBlockingRead(benchmark::State& state) {
   state.SetItemsProcessed(2 * state.iterations());
 }
 BENCHMARK(BM_WakeupFromBlockingRead)->MeasureProcessCPUTime();
-
 // `drive` from the line to the control frame and the response line: the library calls the daemon's
 // RpcHandler and ControlLoop make (their objects need a CAN link that is up: the e2e benchmark).
 void BM_DriveRequestToFrameAndResponse(benchmark::State& state) {
@@ -208,7 +202,6 @@ void BM_DriveRequestToFrameAndResponse(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_DriveRequestToFrameAndResponse);
-
 // `status` through the daemon's own RpcHandler (link down: no SocketCAN on this host).
 void BM_StatusRequestThroughRpcHandler(benchmark::State& state) {
   boost::asio::io_context io;
@@ -218,12 +211,13 @@ void BM_StatusRequestThroughRpcHandler(benchmark::State& state) {
   TelemetryDecoder telemetry(config.telemetry.low_battery_v);
   ChassisSupervisor supervisor(daemon::supervisor_settings(config));
   daemon::ControlIo control_io(io, link, config);
-  daemon::ControlLoop control(control_io.ports(), supervisor, config);
+  daemon::EventFanout events;  // no subscribers: events cost nothing
+  daemon::ControlLoop control(control_io.ports(), supervisor, config, events);
   daemon::ApiCounters counters;
   const daemon::StatusIdentity identity{config.transport, config.can.interface, config.chassis.type,
                                         config.can.dialect};
   daemon::RpcHandler handler(
-      control, telemetry, config.chassis.type, config.transport, counters,
+      control, telemetry, config.chassis.type, config.transport, counters, events,
       [&] { return daemon::status_to_json(identity, daemon::StatusFields{}, 12.3, std::nullopt); },
       [] { return json::object(); });
   daemon::ClientState client;

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "human_format.hpp"
 #include "wheeltec/types.hpp"
 
 // The subcommands of wheeltecctl. Each returns the process exit code or throws CliError.
@@ -16,11 +17,14 @@ struct GlobalOptions {
 // status, telemetry, stats, version: one request, result printed.
 int run_query(const GlobalOptions& options, const std::string& method);
 
-// stop, enable, disable, reset_odometry: one request, "ok" or {} printed.
-int run_action(const GlobalOptions& options, const std::string& method);
+// stop, enable, disable, reset_odometry, mark: one request, "ok" or {} printed.
+int run_action(const GlobalOptions& options, const std::string& method, const Json& params = Json());
 
 // Telemetry records until `count` were printed (0 = until SIGINT/SIGTERM, exit 0).
 int run_watch(const GlobalOptions& options, std::uint64_t count);
+
+// The daemon's events, one line each, until `count` were printed (0 = until SIGINT/SIGTERM, exit 0).
+int run_events(const GlobalOptions& options, std::uint64_t count);
 
 // drive re-sent every 100 ms for `seconds`, then stop. Interrupted by a signal: stop,
 // then exit 128 + signal number (130 for Ctrl-C).

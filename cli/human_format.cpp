@@ -1,6 +1,8 @@
 #include "human_format.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -112,6 +114,72 @@ std::string control_text(const Json& control) {
   return text;
 }
 
+// A daemon's message, with control characters (which it may quote from a client) as \xHH.
+std::string message_text(const Json& value) {
+  if (!value.is_string()) return std::string(kUnknown);
+  std::string text;
+  for (const char c : value.get_ref<const std::string&>()) {
+    const auto byte = static_cast<unsigned char>(c);
+    text += byte < 0x20 || byte == 0x7F ? fmt::format("\\x{:02x}", byte) : std::string(1, c);
+  }
+  return text;
+}
+
+// A JSON string as JSON writes it: quoted, control characters escaped, UTF-8 kept.
+std::string quoted_text(const Json& value) {
+  if (!value.is_string()) return std::string(kUnknown);
+  return value.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+// Seconds since the epoch as "2026-11-27T15:30:12.123Z".
+std::string utc_time_text(const Json& time) {
+  if (!time.is_number()) return std::string(kUnknown);
+  const double seconds = time.get<double>();
+  if (!std::isfinite(seconds) || std::fabs(seconds) > 1e11) return std::string(kUnknown);
+  const std::chrono::sys_time<std::chrono::milliseconds> millis(
+      std::chrono::milliseconds(static_cast<std::int64_t>(std::floor(seconds * 1000.0 + 0.5))));
+  const auto day = std::chrono::floor<std::chrono::days>(millis);
+  const std::chrono::year_month_day date(day);
+  const std::chrono::hh_mm_ss clock(millis - day);
+  return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", static_cast<int>(date.year()),
+                     static_cast<unsigned>(date.month()), static_cast<unsigned>(date.day()), clock.hours().count(),
+                     clock.minutes().count(), clock.seconds().count(), clock.subseconds().count());
+}
+
+// What happened, after who: the kind and its members in words.
+std::string event_text(const std::string& kind, const Json& event) {
+  if (kind == "connected") {
+    return fmt::format("connected (uid {}, gid {}, pid {})", scalar_text(member_or_null(event, "uid")),
+                       scalar_text(member_or_null(event, "gid")), scalar_text(member_or_null(event, "pid")));
+  }
+  if (kind == "drive") {
+    const Json& clamped = member_or_null(event, "clamped");
+    return "drive " + velocity_text(event) + (clamped.is_boolean() && clamped.get<bool>() ? " (clamped)" : "");
+  }
+  if (kind == "refused") {
+    return fmt::format("refused {}: {} (code {})", string_text(member_or_null(event, "method")),
+                       message_text(member_or_null(event, "message")), scalar_text(member_or_null(event, "code")));
+  }
+  if (kind == "deadman") {
+    return fmt::format("deadman: no drive for {} s, zero velocity, control released",
+                       number_text(member_or_null(event, "after_s"), 3));
+  }
+  if (kind == "mark") return "mark " + quoted_text(member_or_null(event, "text"));
+  if (kind == "reload") {
+    const Json& ok = member_or_null(event, "ok");
+    if (ok.is_boolean() && ok.get<bool>()) return "reload: configuration reloaded";
+    return "reload failed: " + message_text(member_or_null(event, "message"));
+  }
+  if (kind == "disconnected" || kind == "stop" || kind == "enable" || kind == "disable") return kind;
+  // A kind of a later protocol: its members as they are.
+  std::string text = kind;
+  for (const auto& [key, value] : event.items()) {
+    if (key == "time" || key == "event" || key == "client") continue;
+    text += fmt::format(" {}={}", key, value.dump(-1, ' ', false, Json::error_handler_t::replace));
+  }
+  return text;
+}
+
 void flatten(const Json& value, const std::string& name,
              std::vector<std::pair<std::string, std::string>>& lines) {
   if (value.is_object() && !value.empty()) {
@@ -187,6 +255,14 @@ std::string format_stats(const Json& stats) {
     text += fmt::format("{:<{}} {}\n", name, width, value);
   }
   return text;
+}
+
+std::string format_event_line(const Json& event) {
+  const Json& client = member_or_null(event, "client");
+  const std::string who = client.is_null() ? std::string("wheeltecd") : "client " + scalar_text(client);
+  const Json& kind = member_or_null(event, "event");
+  return fmt::format("{}  {:<9}  {}", utc_time_text(member_or_null(event, "time")), who,
+                     kind.is_string() ? event_text(kind.get<std::string>(), event) : std::string(kUnknown));
 }
 
 std::string format_version(const Json& version) {

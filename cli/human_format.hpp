@@ -24,6 +24,13 @@ std::string format_telemetry_line(const Json& record);
 // one column. Ends in '\n' (empty string for an empty object).
 std::string format_stats(const Json& stats);
 
+// One line per event of the daemon's `events` topic: the time (UTC, milliseconds), who
+// ("client N", or "wheeltecd" for the daemon's own) and what, e.g.
+// "2026-11-27T15:30:12.123Z  client 3   drive vx=0.200 vy=0.000 wz=0.500". Texts from
+// clients are quoted as JSON strings, so that no control character reaches the terminal.
+// No '\n'.
+std::string format_event_line(const Json& event);
+
 // "wheeltecd 0.1.0 (protocol 1)". No '\n'.
 std::string format_version(const Json& version);
 

@@ -49,6 +49,22 @@ int run(int argc, char** argv) {
       ->check(wheeltec::command_line::finite_in(0.0).description(""))
       ->type_name("COUNT");
 
+  std::int64_t events_count = 0;
+  CLI::App* events = app.add_subcommand(
+      "events",
+      "Stream the daemon's events, one line each (--json: each event's JSON object):\n"
+      "clients coming and going, drives, refusals, stop, the deadman, marks, reloads");
+  events->add_option("-n,--count", events_count, "Stop after COUNT events (0: until Ctrl-C)")
+      ->check(wheeltec::command_line::finite_in(0.0).description(""))
+      ->type_name("COUNT");
+
+  std::vector<std::string> mark_words;
+  CLI::App* mark = app.add_subcommand(
+      "mark",
+      "Note this moment in the daemon's events for the black box: a \"mark\" event with\n"
+      "TEXT (several words are joined by spaces; at most 200 characters)");
+  mark->add_option("text", mark_words, "What to note")->required()->expected(1, -1)->type_name("TEXT");
+
   std::vector<std::string> drive_values;
   double drive_seconds = 1.0;
   CLI::App* drive = app.add_subcommand(
@@ -98,6 +114,8 @@ int run(int argc, char** argv) {
     return run_query(options, name);
   }
   if (name == "watch") return run_watch(options, static_cast<std::uint64_t>(watch_count));
+  if (name == "events") return run_events(options, static_cast<std::uint64_t>(events_count));
+  if (name == "mark") return run_action(options, "mark", Json{{"text", CLI::detail::join(mark_words, " ")}});
   if (name == "drive") {
     const auto velocity = parse_drive_velocity(drive_values);
     if (const auto* message = std::get_if<std::string>(&velocity)) {

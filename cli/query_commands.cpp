@@ -25,9 +25,9 @@ int run_query(const GlobalOptions& options, const std::string& method) {
   return kExitOk;
 }
 
-int run_action(const GlobalOptions& options, const std::string& method) {
+int run_action(const GlobalOptions& options, const std::string& method, const Json& params) {
   DaemonSession daemon(options.socket_path);
-  const Json result = daemon.call(method);
+  const Json result = daemon.call(method, params);
   std::cout << (options.json ? result.dump() : std::string("ok")) << std::endl;
   return kExitOk;
 }

@@ -9,15 +9,14 @@ set(WHEELTEC_UDEV_RULES_DIR "lib/udev/rules.d" CACHE STRING "udev rules director
 set(WHEELTEC_DOC_DIR "${CMAKE_INSTALL_DATADIR}/doc/wheeltec-gateway")
 
 install(FILES systemd/wheeltecd.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
-if(TARGET wheeltec-mqtt)
-  install(FILES systemd/wheeltec-mqtt.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
-endif()
-if(TARGET wheeltec-web)
-  install(FILES systemd/wheeltec-web.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
-endif()
-if(TARGET wheeltec-ros2)
-  install(FILES systemd/wheeltec-ros2.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
-endif()
+# The optional programs (each built where its libraries are found), their units and man pages.
+set(WHEELTEC_MAN_PAGES man/wheeltecd.8 man/wheeltecctl.1 man/wheeltec-emu.1)
+foreach(program IN ITEMS wheeltec-mqtt wheeltec-web wheeltec-ros2 wheeltec-record)
+  if(TARGET ${program})
+    install(FILES systemd/${program}.service DESTINATION ${WHEELTEC_SYSTEMD_UNIT_DIR})
+    list(APPEND WHEELTEC_MAN_PAGES man/${program}.1)
+  endif()
+endforeach()
 install(FILES systemd/80-wheeltec-can.network DESTINATION ${WHEELTEC_NETWORKD_DIR})
 # The serial link: names the controller's USB cable /dev/wheeltec_controller for the group
 # wheeltec (/usr/lib/udev/rules.d/ in the package; udev reads /usr/local/lib/udev/rules.d/ too).
@@ -31,16 +30,6 @@ install(FILES packaging/wheeltecd.json DESTINATION ${WHEELTEC_CONFIG_DIR})
 
 # Man pages and changelog compressed as Debian wants them (gzip -n: reproducible).
 find_program(GZIP_PROGRAM gzip REQUIRED)
-set(WHEELTEC_MAN_PAGES man/wheeltecd.8 man/wheeltecctl.1 man/wheeltec-emu.1)
-if(TARGET wheeltec-mqtt)
-  list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-mqtt.1)
-endif()
-if(TARGET wheeltec-web)
-  list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-web.1)
-endif()
-if(TARGET wheeltec-ros2)
-  list(APPEND WHEELTEC_MAN_PAGES man/wheeltec-ros2.1)
-endif()
 set(WHEELTEC_COMPRESSED_FILES)
 foreach(page IN LISTS WHEELTEC_MAN_PAGES)
   get_filename_component(name ${page} NAME)
@@ -86,7 +75,9 @@ on a virtual CAN interface or a pseudo-terminal; wheeltec-mqtt bridges the
 robot to an MQTT broker for a fleet; wheeltec-web serves a live view (plots,
 odometry, joystick) to browsers and to Foxglove; wheeltec-ros2 publishes the
 robot as ROS 2 topics (odom, imu, tf, diagnostics; cmd_vel in) over Cyclone
-DDS, with no ROS installed (the bridges' services are installed disabled).")
+DDS, with no ROS installed; wheeltec-record is the black box, writing the
+minute around each incident to an MCAP file for Foxglove (the bridges' and the
+recorder's services are installed disabled).")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)

@@ -39,13 +39,14 @@ bool is_resource_shortage(const boost::system::error_code& error) {
 }  // namespace
 
 ApiServer::ApiServer(boost::asio::io_context& io, const GatewayConfig::Api& api, std::optional<gid_t> group,
-                     ControlPolicy policy, RpcHandler& handler, ApiCounters& counters)
+                     ControlPolicy policy, RpcHandler& handler, ApiCounters& counters, EventSink& events)
     : io_(io),
       acceptor_(io),
       accept_retry_timer_(io),
       policy_(std::move(policy)),
       handler_(handler),
       counters_(counters),
+      events_(events),
       max_clients_(api.max_clients) {
   SocketFile::clear_stale(api.socket);
 
@@ -95,6 +96,13 @@ bool ApiServer::has_status_subscribers() const {
   return false;
 }
 
+bool ApiServer::has_event_subscribers() const {
+  for (const auto& [id, session] : sessions_) {
+    if (session->state().wants_events) return true;
+  }
+  return false;
+}
+
 void ApiServer::queue_telemetry(const TelemetrySample& sample) {
   if (!has_telemetry_subscribers()) return;
   auto notification = notification_texts_.acquire();
@@ -112,6 +120,12 @@ void ApiServer::send_queued() {
 void ApiServer::publish_status(const SharedText& notification) {
   for (const auto& [id, session] : sessions_) {
     if (session->state().wants_status) session->send_status(notification);
+  }
+}
+
+void ApiServer::publish_event(const SharedText& notification) {
+  for (const auto& [id, session] : sessions_) {
+    if (session->state().wants_events) session->send_event(notification);
   }
 }
 
@@ -158,6 +172,8 @@ void ApiServer::on_accept(const boost::system::error_code& error, stream_protoco
   ++counters_.clients;
   ++counters_.clients_total;
   const ClientId id = state.id;
+  events_.publish(id, events::Connected{peer ? std::optional(events::Peer{peer->uid, peer->gid, peer->pid})
+                                             : std::nullopt});
   auto session = std::make_shared<ClientSession>(std::move(socket), std::move(state), handler_, counters_, log_limits_,
                                                  [this](ClientId gone) { client_gone(gone); });
   sessions_.emplace(id, session);
@@ -182,6 +198,7 @@ void ApiServer::refuse_client(stream_protocol::socket socket) {
 void ApiServer::client_gone(ClientId id) {
   service::log_limited(log_limits_.disconnected, spdlog::level::info, "client {} disconnected", id);
   --counters_.clients;
+  events_.publish(id, events::Disconnected{});
   if (gone_handler_) gone_handler_(id);
   // Not erased at once: this may run while the sessions are being iterated (publishing).
   boost::asio::post(io_, [this, id] { sessions_.erase(id); });

@@ -20,6 +20,7 @@
 #include "api_log_limits.hpp"
 #include "client_session.hpp"
 #include "control_policy.hpp"
+#include "event_sink.hpp"
 #include "rpc_handler.hpp"
 #include "socket_file.hpp"
 
@@ -32,8 +33,9 @@ class ApiServer {
 
   // Creates, binds and listens on api.socket (StartupError if it cannot, e.g. the directory
   // is missing or a running daemon answers on it); `group` is api.group, already resolved.
+  // Clients that connect and disconnect are reported to `events`.
   ApiServer(boost::asio::io_context& io, const GatewayConfig::Api& api, std::optional<gid_t> group,
-            ControlPolicy policy, RpcHandler& handler, ApiCounters& counters);
+            ControlPolicy policy, RpcHandler& handler, ApiCounters& counters, EventSink& events);
   ~ApiServer();
   ApiServer(const ApiServer&) = delete;
   ApiServer& operator=(const ApiServer&) = delete;
@@ -46,12 +48,15 @@ class ApiServer {
   void close();
 
   bool has_status_subscribers() const;
+  bool has_event_subscribers() const;
   // Queues the record's telemetry notification (built once, shared) for every subscriber;
   // send_queued() sends what was queued (once per batch of CAN frames: one send per
   // subscriber for the batch).
   void queue_telemetry(const TelemetrySample& sample);
   void send_queued();
   void publish_status(const SharedText& notification);
+  // An event notification (built once, shared) for every subscriber, written at once.
+  void publish_event(const SharedText& notification);
 
   // Run-time changes (SIGHUP); they apply to clients that connect from now on.
   void set_policy(ControlPolicy policy) { policy_ = std::move(policy); }
@@ -71,6 +76,7 @@ class ApiServer {
   ControlPolicy policy_;
   RpcHandler& handler_;
   ApiCounters& counters_;
+  EventSink& events_;
   int max_clients_;
   ClientId next_client_id_ = 1;
   std::map<ClientId, std::shared_ptr<ClientSession>> sessions_;

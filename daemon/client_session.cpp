@@ -32,6 +32,12 @@ void ClientSession::send_status(SharedText notification) {
   flush();
 }
 
+void ClientSession::send_event(SharedText notification) {
+  if (!takes_notifications()) return;
+  writer_.queue(std::move(notification), OutboundQueue::Kind::event);
+  flush();
+}
+
 void ClientSession::queue_telemetry(SharedText notification) {
   if (!takes_notifications()) return;
   writer_.queue(std::move(notification), OutboundQueue::Kind::telemetry);

@@ -53,6 +53,9 @@ class ClientSession : public std::enable_shared_from_this<ClientSession>, privat
 
   // A status notification (shared by all subscribers); written at once.
   void send_status(SharedText notification);
+  // An event notification (shared by all subscribers); written at once, or dropped (and
+  // counted) when the client lags.
+  void send_event(SharedText notification);
   // A telemetry notification (shared by all subscribers); queued until flush(), and
   // coalesced when the client lags.
   void queue_telemetry(SharedText notification);

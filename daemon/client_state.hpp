@@ -13,6 +13,7 @@ struct ClientState {
   std::optional<std::string> control_refusal;  // why it may not drive/enable/disable; empty if it may
   bool wants_telemetry = false;
   bool wants_status = false;
+  bool wants_events = false;
 };
 
 }  // namespace wheeltec::daemon

@@ -2,11 +2,13 @@
 
 #include <unistd.h>
 
+#include <optional>
+
 #include <spdlog/spdlog.h>
 
 namespace wheeltec::daemon {
 
-std::optional<ReloadedConfig> reload_config(const Options& options, const GatewayConfig& running) {
+std::variant<ReloadedConfig, std::string> reload_config(const Options& options, const GatewayConfig& running) {
   const auto file = config_file_to_load(options);
   spdlog::info("SIGHUP: reloading the configuration{}{}", file ? " from " : " (no config file)", file.value_or(""));
   std::optional<ReloadedConfig> reloaded;
@@ -16,7 +18,7 @@ std::optional<ReloadedConfig> reload_config(const Options& options, const Gatewa
     reloaded.emplace(ReloadedConfig{std::move(fresh), std::move(access)});
   } catch (const ConfigError& error) {
     spdlog::error("SIGHUP: {}; keeping the running configuration", error.what());
-    return std::nullopt;
+    return std::string(error.what());
   }
 
   GatewayConfig& fresh = reloaded->config;
@@ -35,7 +37,7 @@ std::optional<ReloadedConfig> reload_config(const Options& options, const Gatewa
   keep(fresh.api.socket, running.api.socket, "api.socket");
   keep(fresh.api.mode, running.api.mode, "api.mode");
   keep(fresh.api.group, running.api.group, "api.group");
-  return reloaded;
+  return std::move(*reloaded);
 }
 
 }  // namespace wheeltec::daemon

@@ -1,6 +1,7 @@
 #pragma once
 
-#include <optional>
+#include <string>
+#include <variant>
 
 #include "wheeltec/config.hpp"
 
@@ -16,7 +17,7 @@ struct ReloadedConfig {
 
 // SIGHUP: the configuration read again, with the keys that cannot change while running
 // kept at their running values (each change of one is logged: it takes effect after a
-// restart). Empty, with the error logged, when the new configuration is invalid.
-std::optional<ReloadedConfig> reload_config(const Options& options, const GatewayConfig& running);
+// restart). When the new configuration is invalid: why (logged too).
+std::variant<ReloadedConfig, std::string> reload_config(const Options& options, const GatewayConfig& running);
 
 }  // namespace wheeltec::daemon

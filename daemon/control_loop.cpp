@@ -28,8 +28,9 @@ SupervisorSettings supervisor_settings(const GatewayConfig& config) {
   return settings;
 }
 
-ControlLoop::ControlLoop(const ControlPorts& ports, ChassisSupervisor& supervisor, const GatewayConfig& config)
-    : ports_(ports), supervisor_(supervisor), config_(config) {
+ControlLoop::ControlLoop(const ControlPorts& ports, ChassisSupervisor& supervisor, const GatewayConfig& config,
+                         EventSink& events)
+    : ports_(ports), supervisor_(supervisor), config_(config), events_(events) {
   ports_.period_timer.on_tick([this] { on_period(); });
 }
 
@@ -108,11 +109,14 @@ void ControlLoop::disable() {
 }
 
 void ControlLoop::client_gone(ClientId client) {
-  if (!supervisor_.client_gone(client)) return;
-  service::log_limited(released_log_, ports_.clock.now(), spdlog::level::info,
-                       "client {} gone while holding control: zero velocity", client);
+  const auto lapse = supervisor_.client_gone(client);
+  if (!lapse) return;
+  const MonotonicNanos now = ports_.clock.now();
+  service::log_limited(released_log_, now, spdlog::level::info, "client {} gone while holding control: zero velocity",
+                       client);
   cancel_deadman();
   send_command();
+  report_lapse(*lapse, now);
   may_have_changed();
 }
 
@@ -254,15 +258,21 @@ void ControlLoop::arm_deadman() {
 }
 
 bool ControlLoop::release_if_lapsed() {
-  const auto owner = supervisor_.owner();
-  if (!supervisor_.expire_deadman(ports_.clock.now())) return false;
-  service::log_limited(released_log_, ports_.clock.now(), spdlog::level::info,
-                       "client {} stopped driving for {:g} s: zero velocity, control released", owner.value_or(0),
+  const MonotonicNanos now = ports_.clock.now();
+  const auto lapse = supervisor_.expire_deadman(now);
+  if (!lapse) return false;
+  service::log_limited(released_log_, now, spdlog::level::info,
+                       "client {} stopped driving for {:g} s: zero velocity, control released", lapse->owner,
                        config_.control.command_timeout_s);
   cancel_deadman();
   send_command();
+  report_lapse(*lapse, now);
   may_have_changed();
   return true;
+}
+
+void ControlLoop::report_lapse(const ControlLapse& lapse, MonotonicNanos now) {
+  if (lapse.moving) events_.publish(lapse.owner, events::Deadman{now - lapse.last_drive});
 }
 
 }  // namespace wheeltec::daemon

@@ -9,6 +9,7 @@
 #include "wheeltec/log_rate_limiter.hpp"
 
 #include "control_ports.hpp"
+#include "event_sink.hpp"
 
 namespace wheeltec::daemon {
 
@@ -24,15 +25,17 @@ struct DriveResult {
 // plus one at once when the target changes, the enable frame when control becomes enabled
 // and every enable_refresh_s where the link wants it, the first frame zero, a timer at the
 // owner's deadline (the deadman, no polling) and one at the chassis' offline deadline, zero
-// then disable on shutdown; and, while control is enabled, the stall guard's heartbeat.
+// then disable on shutdown; and, while control is enabled, the stall guard's heartbeat. A
+// deadman that stops a moving chassis is reported to the events.
 class ControlLoop {
  public:
   // Something the status shows may have changed; the handler compares the status (the one
   // place that does). Not called for record(): its caller compares after every record.
   using ChangeHandler = std::function<void()>;
 
-  // The ports and the supervisor must outlive the loop.
-  ControlLoop(const ControlPorts& ports, ChassisSupervisor& supervisor, const GatewayConfig& config);
+  // The ports, the supervisor and the events must outlive the loop.
+  ControlLoop(const ControlPorts& ports, ChassisSupervisor& supervisor, const GatewayConfig& config,
+              EventSink& events);
 
   void on_change(ChangeHandler handler) { change_handler_ = std::move(handler); }
 
@@ -64,6 +67,8 @@ class ControlLoop {
   void cancel_deadman();
   // If the owner's deadline has passed: zero frame, control released; true if so.
   bool release_if_lapsed();
+  // Control lapsed at `now` (zero already sent): the deadman event, if the chassis was moving.
+  void report_lapse(const ControlLapse& lapse, MonotonicNanos now);
   void arm_offline_timer();
   void may_have_changed();
   // The link is up and sent the zero command itself when it came up.
@@ -72,6 +77,7 @@ class ControlLoop {
   ControlPorts ports_;
   ChassisSupervisor& supervisor_;
   GatewayConfig config_;
+  EventSink& events_;
   // Control released because its owner left or stopped driving: a remote operator can do
   // either as often as it likes, through a bridge.
   LogRateLimiter released_log_;

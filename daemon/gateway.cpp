@@ -37,12 +37,14 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
       supervisor_(supervisor_settings(config_)),
       dock_(io),
       control_io_(io, *link_, config_),
-      control_(control_io_.ports(), supervisor_, config_),
-      rpc_(control_, telemetry_, config_.chassis.type, config_.transport, api_counters_,
+      control_(control_io_.ports(), supervisor_, config_, events_),
+      rpc_(control_, telemetry_, config_.chassis.type, config_.transport, api_counters_, events_,
            [this] { return status_json(); }, [this] { return stats_json(); }),
-      api_(io, config_.api, access.socket_group, std::move(access.control_policy), rpc_, api_counters_),
+      api_(io, config_.api, access.socket_group, std::move(access.control_policy), rpc_, api_counters_, events_),
       signals_(io, SIGINT, SIGTERM, SIGHUP),
-      notifier_(io) {}
+      notifier_(io) {
+  events_.deliver_to(api_);
+}
 
 void Gateway::start() {
   dock_.on_change([this] { status_may_have_changed(); });
@@ -146,15 +148,20 @@ void Gateway::shutdown(int signal_number) {
 }
 
 void Gateway::reload() {
-  auto reloaded = reload_config(options_, config_);
-  if (!reloaded) return;
-  config_ = std::move(reloaded->config);
+  auto outcome = reload_config(options_, config_);
+  if (const auto* refused = std::get_if<std::string>(&outcome)) {
+    events_.publish(std::nullopt, events::Reload{*refused});
+    return;
+  }
+  auto& reloaded = std::get<ReloadedConfig>(outcome);
+  config_ = std::move(reloaded.config);
   service::set_log_level(config_.log.level);
   control_.apply(config_);
   telemetry_.set_low_battery_v(config_.telemetry.low_battery_v);
-  api_.set_policy(std::move(reloaded->access.control_policy));
+  api_.set_policy(std::move(reloaded.access.control_policy));
   api_.set_max_clients(config_.api.max_clients);
   spdlog::info("SIGHUP: configuration reloaded");
+  events_.publish(std::nullopt, events::Reload{});
   status_may_have_changed();
 }
 

@@ -18,6 +18,7 @@
 #include "control_io.hpp"
 #include "control_loop.hpp"
 #include "dock_monitor.hpp"
+#include "event_fanout.hpp"
 #include "options.hpp"
 #include "rpc_handler.hpp"
 #include "status_report.hpp"
@@ -26,8 +27,8 @@
 namespace wheeltec::daemon {
 
 // The daemon wired together: the chassis link (CAN or serial), the telemetry decoder, the
-// supervisor and its control loop, the dock, the API and the signals (SIGTERM/SIGINT: stop
-// safely; SIGHUP: reload the config).
+// supervisor and its control loop, the dock, the API, the events and the signals
+// (SIGTERM/SIGINT: stop safely; SIGHUP: reload the config).
 class Gateway {
  public:
   // Creates the API socket (StartupError if it cannot).
@@ -51,6 +52,7 @@ class Gateway {
   GatewayConfig config_;
   std::chrono::steady_clock::time_point started_;
   ApiCounters api_counters_;
+  EventFanout events_;  // before the parts that publish to it
   std::unique_ptr<ChassisLink> link_;
   TelemetryDecoder telemetry_;
   ChassisSupervisor supervisor_;

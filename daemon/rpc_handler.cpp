@@ -30,18 +30,26 @@ json topics_of(const ClientState& client) {
   json topics = json::array();
   if (client.wants_telemetry) topics.push_back(rpc::kTopicTelemetry);
   if (client.wants_status) topics.push_back(rpc::kTopicStatus);
+  if (client.wants_events) topics.push_back(rpc::kTopicEvents);
   return topics;
+}
+
+// The methods whose errors are `refused` events.
+bool is_control_method(std::string_view method) {
+  return method == "drive" || method == "enable" || method == "disable";
 }
 
 }  // namespace
 
 RpcHandler::RpcHandler(ControlLoop& control, TelemetryDecoder& telemetry, ChassisType chassis_type,
-                       Transport transport, ApiCounters& counters, JsonSource status, JsonSource stats)
+                       Transport transport, ApiCounters& counters, EventSink& events, JsonSource status,
+                       JsonSource stats)
     : control_(control),
       telemetry_(telemetry),
       chassis_type_(chassis_type),
       link_down_message_(transport == Transport::serial ? "the serial link is down" : "the CAN bus is down"),
       counters_(counters),
+      events_(events),
       status_(std::move(status)),
       stats_(std::move(stats)) {}
 
@@ -65,6 +73,9 @@ std::optional<std::string> RpcHandler::handle_line(ClientState& client, std::str
   Outcome outcome = dispatch(client, request);
   if (auto* error = std::get_if<rpc::Error>(&outcome)) {
     ++counters_.request_errors;
+    if (is_control_method(request.method)) {
+      events_.publish(client.id, events::Refused{request.method, error->code, error->message});
+    }
     if (request.is_notification) return std::nullopt;
     error->id = request.id;
     return rpc::encode_error(*error);
@@ -76,6 +87,7 @@ std::optional<std::string> RpcHandler::handle_line(ClientState& client, std::str
 RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request& request) {
   const std::string& method = request.method;
   if (method == "drive") return drive(client, request);
+  if (method == "mark") return mark(client, request);
   if (method == "subscribe") return set_subscriptions(client, request, true);
   if (method == "unsubscribe") return set_subscriptions(client, request, false);
 
@@ -90,6 +102,7 @@ RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request
   if (method == "telemetry") return rpc::Error{rpc::kNoTelemetry, "no telemetry yet", request.id};
   if (method == "stop") {
     control_.stop();
+    events_.publish(client.id, events::Stop{});
     return json::object();
   }
   if (method == "reset_odometry") {
@@ -99,8 +112,10 @@ RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request
   if (auto error = control_permission_error(client, request)) return *std::move(error);
   if (method == "enable") {
     control_.enable();
+    events_.publish(client.id, events::Enable{});
   } else {
     control_.disable();
+    events_.publish(client.id, events::Disable{});
   }
   return json::object();
 }
@@ -112,7 +127,15 @@ RpcHandler::Outcome RpcHandler::drive(ClientState& client, const rpc::Request& r
 
   const DriveResult result = control_.drive(client.id, std::get<Velocity>(params));
   if (result.decision.refusal) return drive_refusal(result.decision, request);
+  events_.publish(client.id, events::Drive{result.sent, result.clamped});
   return json{{"vx", result.sent.vx}, {"vy", result.sent.vy}, {"wz", result.sent.wz}, {"clamped", result.clamped}};
+}
+
+RpcHandler::Outcome RpcHandler::mark(const ClientState& client, const rpc::Request& request) {
+  auto text = rpc::parse_mark_params(request);
+  if (auto* error = std::get_if<rpc::Error>(&text)) return std::move(*error);
+  events_.publish(client.id, events::Mark{std::get<std::string_view>(text)});
+  return json::object();
 }
 
 rpc::Error RpcHandler::drive_refusal(const DriveDecision& decision, const rpc::Request& request) const {
@@ -142,6 +165,7 @@ RpcHandler::Outcome RpcHandler::set_subscriptions(ClientState& client, const rpc
   for (const std::string& topic : std::get<std::vector<std::string>>(topics)) {
     if (topic == rpc::kTopicTelemetry) client.wants_telemetry = wanted;
     if (topic == rpc::kTopicStatus) client.wants_status = wanted;
+    if (topic == rpc::kTopicEvents) client.wants_events = wanted;
   }
   return json{{"topics", topics_of(client)}};
 }

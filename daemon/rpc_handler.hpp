@@ -16,16 +16,18 @@
 #include "api_counters.hpp"
 #include "client_state.hpp"
 #include "control_loop.hpp"
+#include "event_sink.hpp"
 
 namespace wheeltec::daemon {
 
-// The methods of the JSON API (spec section 2): one request line in, one response out.
+// The methods of the JSON API (spec sections 2 and 10): one request line in, one response
+// out. What a client's request did to control, and a mark, are reported to `events`.
 class RpcHandler {
  public:
   using JsonSource = std::function<nlohmann::json()>;
 
   RpcHandler(ControlLoop& control, TelemetryDecoder& telemetry, ChassisType chassis_type, Transport transport,
-             ApiCounters& counters, JsonSource status, JsonSource stats);
+             ApiCounters& counters, EventSink& events, JsonSource status, JsonSource stats);
 
   // The response line (with '\n') to a request line (without it); empty for an empty
   // line and for notifications, which are carried out but never answered.
@@ -36,6 +38,7 @@ class RpcHandler {
 
   Outcome dispatch(ClientState& client, const rpc::Request& request);
   Outcome drive(ClientState& client, const rpc::Request& request);
+  Outcome mark(const ClientState& client, const rpc::Request& request);
   Outcome set_subscriptions(ClientState& client, const rpc::Request& request, bool wanted);
   std::optional<rpc::Error> control_permission_error(const ClientState& client, const rpc::Request& request) const;
   std::string telemetry_response(const rpc::Request& request) const;
@@ -46,6 +49,7 @@ class RpcHandler {
   ChassisType chassis_type_;
   std::string link_down_message_;
   ApiCounters& counters_;
+  EventSink& events_;
   JsonSource status_;
   JsonSource stats_;
 };

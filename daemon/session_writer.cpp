@@ -34,6 +34,7 @@ void SessionWriter::queue(SharedText text, OutboundQueue::Kind kind) {
   if (state_ == State::stopped) return;
   const OutboundQueue::Admission admission = queue_.push(std::move(text), kind);
   if (admission.replaced_telemetry) ++counters_.notifications_dropped;
+  if (admission.dropped_event) ++counters_.events_dropped;
   if (admission.over_hard_limit) {
     report_too_slow("output backlog full");
     return;

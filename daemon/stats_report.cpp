@@ -16,6 +16,7 @@ nlohmann::json stats_to_json(const ChassisLink& link, std::uint64_t records_acce
   stats["clients_disconnected_slow"] = api.clients_disconnected_slow;
   stats["requests"] = api.requests;
   stats["request_errors"] = api.request_errors;
+  stats["api"] = {{"events_dropped", api.events_dropped}};
   stats["uptime_s"] = std::round(uptime_s * 1000.0) / 1000.0;
   return stats;
 }

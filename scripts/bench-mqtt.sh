@@ -49,7 +49,7 @@ cmake --build "$BUILD_DIR" --target wheeltec-bench-mqtt wheeltecd wheeltec-emu w
 mkdir -p "$BENCH_OUT"
 
 programs=(--wheeltecd "$BUILD_DIR/daemon/wheeltecd" --bridge "$BUILD_DIR/mqtt/wheeltec-mqtt"
-  --paho-bridge "$REPO_ROOT/bench/mqtt/paho_bridge.py" --python /usr/bin/python3
+  --paho-bridge "$REPO_ROOT/bench/mqtt/paho_bridge.py"
   --mosquitto "$(command -v mosquitto || echo /usr/sbin/mosquitto)")
 
 if ((SERIAL)); then

@@ -13,7 +13,10 @@
 #include "wheeltec/service/logging.hpp"
 
 #include "access.hpp"
+#include "file_response.hpp"
 #include "foxglove.hpp"
+#include "record_directory.hpp"
+#include "record_files.hpp"
 #include "server.hpp"
 #include "viewer.hpp"
 
@@ -44,6 +47,13 @@ constexpr std::array<DaemonRoute, 3> kDaemonRoutes{{
     {"/api/stats", http::verb::get, "stats", ""},
     {"/api/stop", http::verb::post, "stop", "stop failed: "},
 }};
+
+// What every response carries, whatever its body.
+void set_common_headers(http::response_header<>& response) {
+  response.set(http::field::server, "wheeltec-web");
+  response.set(http::field::cache_control, "no-store");
+  response.set("X-Content-Type-Options", "nosniff");
+}
 
 std::optional<std::string_view> header(const http::request<http::string_body>& request, http::field field) {
   const auto found = request.find(field);
@@ -94,6 +104,7 @@ void HttpSession::handle(Request request) {
   for (const DaemonRoute& route : kDaemonRoutes) {
     if (path == route.path) return relay(request, route);
   }
+  if (path == kRecordsPath || record_name_in_path(path)) return records(request, path);
   const StaticFile* file = server_.files().find(path);
   if (file == nullptr) {
     return respond_text(http::status::not_found, fmt::format("no such page: {}", path.substr(0, 200)), keep_alive);
@@ -163,6 +174,56 @@ void HttpSession::relay(const Request& request, const DaemonRoute& route) {
                       });
 }
 
+void HttpSession::records(const Request& request, std::string_view path) {
+  const bool keep_alive = request.keep_alive();
+  const auto name = record_name_in_path(path);
+  if (name && !record_of_name(*name)) {
+    return respond_text(http::status::not_found, fmt::format("no such recording: {}", name->substr(0, 200)),
+                        keep_alive);
+  }
+  if (request.method() != http::verb::get) {
+    return respond_text(http::status::method_not_allowed, fmt::format("{} takes GET", path.substr(0, 200)), keep_alive,
+                        "GET");
+  }
+  if (name) return download(*name, keep_alive);
+  const DirectoryListing listing = list_directory(server_.config().record_dir);
+  if (!listing.error.empty()) return respond_text(http::status::internal_server_error, listing.error, keep_alive);
+  respond(http::status::ok, "application/json", recordings_json(recordings(listing.entries)), keep_alive);
+}
+
+void HttpSession::download(std::string_view name, bool keep_alive) {
+  const OpenedRecord opened = open_recording(server_.config().record_dir, name);
+  if (opened.missing) {
+    return respond_text(http::status::not_found, fmt::format("no such recording: {}", name), keep_alive);
+  }
+  if (opened.fd < 0) return respond_text(http::status::internal_server_error, opened.error, keep_alive);
+  beast::file file;
+  file.native_handle(opened.fd);
+  auto response = std::make_shared<FileResponse>(http::status::ok, request_version_);
+  beast::error_code ec;
+  response->body().reset(std::move(file), ec);
+  if (ec) {
+    return respond_text(http::status::internal_server_error, fmt::format("{}: {}", name, ec.message()), keep_alive);
+  }
+  set_common_headers(*response);
+  response->set(http::field::content_type, "application/octet-stream");
+  response->set(http::field::content_disposition, fmt::format("attachment; filename=\"{}\"", name));
+  response->keep_alive(keep_alive);
+  response->prepare_payload();
+  async_write_file_response(stream_, response, kRequestTimeout, [self = shared_from_this(), keep_alive](auto ec) {
+    self->written(ec, keep_alive);
+  });
+}
+
+void HttpSession::written(beast::error_code ec, bool keep_alive) {
+  if (ec || !keep_alive) {
+    boost::system::error_code ignored;
+    stream_.tcp().socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
+    return;
+  }
+  read();
+}
+
 std::string HttpSession::daemon_problem(boost::system::error_code ec) const {
   if (ec == boost::asio::error::not_connected) {
     return fmt::format("wheeltecd is not reachable at {}", server_.config().socket);
@@ -177,22 +238,15 @@ void HttpSession::respond_text(http::status status, std::string text, bool keep_
 void HttpSession::respond(http::status status, std::string content_type, std::string body, bool keep_alive,
                           std::string_view allow) {
   auto response = std::make_shared<http::response<http::string_body>>(status, request_version_);
-  response->set(http::field::server, "wheeltec-web");
+  set_common_headers(*response);
   response->set(http::field::content_type, content_type);
-  response->set(http::field::cache_control, "no-store");
-  response->set("X-Content-Type-Options", "nosniff");
   if (!allow.empty()) response->set(http::field::allow, std::string(allow));
   response->body() = std::move(body);
   response->keep_alive(keep_alive);
   response->prepare_payload();
   stream_.tcp().expires_after(kRequestTimeout);
   http::async_write(stream_, *response, [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
-    if (ec || !response->keep_alive()) {
-      boost::system::error_code ignored;
-      self->stream_.tcp().socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
-      return;
-    }
-    self->read();
+    self->written(ec, response->keep_alive());
   });
 }
 

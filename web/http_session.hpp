@@ -1,12 +1,14 @@
 #pragma once
 
 // One HTTP connection (plain or, after TlsHandshake, over TLS): reads requests with Beast's parser under size limits and a timeout,
-// answers the page, /api/status, /api/stats and /api/stop, and hands WebSocket upgrades that pass the
-// checks (path, subprotocol, Origin, token, viewer limit) to a Viewer.
+// answers the page, /api/status, /api/stats, /api/stop and the recorder's files (/api/records),
+// and hands WebSocket upgrades that pass the checks (path, subprotocol, Origin, token, viewer
+// limit) to a Viewer.
 
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/http/parser.hpp>
@@ -38,9 +40,14 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   // One of kDaemonRoutes: the daemon's answer as JSON, or 503 with the reason.
   void relay(const Request& request, const DaemonRoute& route);
   std::string daemon_problem(boost::system::error_code ec) const;
+  // GET /api/records (the list) and /api/records/NAME (one file, in pieces).
+  void records(const Request& request, std::string_view path);
+  void download(std::string_view name, bool keep_alive);
   void respond(boost::beast::http::status status, std::string content_type, std::string body, bool keep_alive,
                std::string_view allow = {});
   void respond_text(boost::beast::http::status status, std::string text, bool keep_alive, std::string_view allow = {});
+  // After a response: the next request, or the end of the connection.
+  void written(boost::beast::error_code ec, bool keep_alive);
 
   Server& server_;
   WebStream stream_;

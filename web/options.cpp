@@ -26,6 +26,9 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
       ->type_name("ORIGIN");
   app.add_option("--page-dir", options.page_dir, "Directory of the page's files, default the installed ones")
       ->type_name("DIR");
+  app.add_option("--record-dir", options.record_dir,
+                 "Directory of wheeltec-record's files to list and serve, default /var/lib/wheeltec-record")
+      ->type_name("DIR");
   app.add_option("--tls-cert", options.tls_cert,
                  "Certificate (PEM, with its intermediates) to serve https:// and wss:// only; needs --tls-key")
       ->type_name("FILE");
@@ -46,6 +49,7 @@ WebConfig load_config(const Options& options) {
     if (options.token_file) config.token_file = *options.token_file;
     for (const auto& origin : options.allow_origins) config.allow_origins.push_back(origin);
     if (options.page_dir) config.page_dir = *options.page_dir;
+    if (options.record_dir) config.record_dir = *options.record_dir;
     if (options.tls_cert) config.tls.cert = *options.tls_cert;
     if (options.tls_key) config.tls.key = *options.tls_key;
   });

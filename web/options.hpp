@@ -19,6 +19,7 @@ struct Options : command_line::BridgeFlags {
   std::optional<std::string> token_file;
   std::vector<std::string> allow_origins;
   std::optional<std::string> page_dir;
+  std::optional<std::string> record_dir;
   std::optional<std::string> tls_cert;
   std::optional<std::string> tls_key;
 };

@@ -30,6 +30,7 @@ void apply_web_config(const json& document, WebConfig& config) {
     number("low_battery_v", config.low_battery_v),
     text("page_dir", config.page_dir),
     text("javascript_dir", config.javascript_dir),
+    text("record_dir", config.record_dir),
     object("tls", {optional_text("cert", config.tls.cert), optional_text("key", config.tls.key)}),
     object("log", {text("level", config.log.level)}),
   });
@@ -46,6 +47,9 @@ void validate_web_config(const WebConfig& config) {
     }
   }
   config_checks::check_log_level(config.log.level);
+  if (!config.record_dir.starts_with('/')) {
+    fail("record_dir", fmt::format("must be an absolute path, got \"{}\"", config.record_dir));
+  }
   if (config.max_clients < 1) fail("max_clients", "must be at least 1");
   config_checks::check_certificate_pair(config.tls.cert, "tls.cert", config.tls.key, "tls.key");
   config_checks::check_optional_file(config.tls.cert, "tls.cert");

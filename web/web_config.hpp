@@ -32,6 +32,8 @@ struct WebConfig {
   std::string page_dir;                   // the page's files; empty: the installed ones
   double low_battery_v = 10.8;            // the page's low-battery line (wheeltecd's telemetry.low_battery_v)
   std::string javascript_dir = "/usr/share/javascript";  // Debian's JavaScript libraries
+  // wheeltec-record's files, listed and served read-only; one that does not exist lists none.
+  std::string record_dir = "/var/lib/wheeltec-record";
   // Both or neither: with them the server speaks only TLS (https://, wss://).
   struct Tls {
     std::optional<std::string> cert;  // PEM certificate (chain) file

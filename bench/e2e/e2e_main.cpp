@@ -32,8 +32,7 @@ constexpr const char* kUsage =
 void send_group(CanEndpoint& chassis, const wheeltec::TelemetryGroup& group) {
   for (std::size_t i = 0; i < group.count; ++i) chassis.send(group.frames[i]);
 }
-// A gateway under measurement, wheeltecd or a relay floor, and the socket it serves.
-struct Gateway {
+struct Gateway {  // a gateway under measurement, wheeltecd or a relay floor, and the socket it serves
   fs::path socket;
   std::unique_ptr<ChildProgram> process;
   pid_t pid() const { return process->pid(); }
@@ -81,9 +80,7 @@ std::pair<CommandLatency, CommandLatency> interleaved_commands(const fs::path& d
 LatencySummary bus_floor(const std::string& interface, int count) {
   CanEndpoint sender(interface, {}), receiver(interface, {0x7E0});
   std::vector<double> samples;
-  wheeltec::CanFrame frame;
-  frame.id = 0x7E0;
-  frame.dlc = 8;
+  wheeltec::CanFrame frame{.id = 0x7E0, .dlc = 8};
   for (int i = 0; i < count; ++i) {
     frame.data[0] = static_cast<std::uint8_t>(i);
     const double start = now_us();
@@ -139,10 +136,6 @@ RateRun run_at_rate(double rate_hz, double duration_s, SubscriberSet& set, CanEn
   set.forget_extra();
   return run;
 }
-RateRun idle_run(const Settings& s, const fs::path& socket, CanEndpoint& chassis, pid_t gateway) {
-  SubscriberSet one(socket, 1);
-  return run_at_rate(20.0, s.idle_s, one, chassis, gateway);
-}
 // `stats` while the subscribers are read (late lines, not counted): a blocked relay answers only then.
 json stats_while_draining(const fs::path& socket, SubscriberSet& set) {
   LineClient client(socket);
@@ -192,10 +185,10 @@ void optional_count(const std::string& what, const std::function<void()>& count)
 }
 // Every gateway's figures, keys prefixed: telemetry latency to 1 and 64 subscribers (0x103 timed),
 // idle at 20 Hz (and its system calls), then rates doubled to 64 subscribers until a notification
-// is lost or a step falls behind; returns the latencies, idle run and last step without loss.
+// is lost or a step falls behind; returns the latencies and the last step without loss.
 struct Profile {
   TelemetryLatency tel1, tel64;
-  RateRun idle, best;
+  RateRun best;
 };
 Profile profile(const Settings& s, const fs::path& dir, const Gateway& gateway, CanEndpoint& chassis, const std::string& name,
                 const std::string& prefix, json& out, bool latency_and_idle = true) {
@@ -214,10 +207,10 @@ Profile profile(const Settings& s, const fs::path& dir, const Gateway& gateway, 
     p.tel64 = telemetry_latency(gateway.socket, 64, s.records_64, send);
     out[prefix + "telemetry_latency_1"] = p.tel1.to_json();
     out[prefix + "telemetry_latency_64"] = p.tel64.to_json();
-    out[prefix + "idle"] = (p.idle = idle_run(s, gateway.socket, chassis, gateway.pid())).idle_json();
+    SubscriberSet one(gateway.socket, 1);
+    out[prefix + "idle"] = run_at_rate(20.0, s.idle_s, one, chassis, gateway.pid()).idle_json();
     if (!s.strace.empty()) {
       optional_count(name + " idle system calls", [&] {
-        SubscriberSet one(gateway.socket, 1);
         SyscallCount count(s.strace, gateway.pid(), dir, name.substr(0, name.find(' ')));
         const RateRun run = run_at_rate(20.0, s.idle_s, one, chassis, gateway.pid());
         const auto calls = count.stop();  // its context switches are not counted here: each ptrace stop is one
@@ -376,7 +369,6 @@ int measure(const Settings& s) {
 
   // ---- the table ----
   const auto ratio = [](double a, double b) { return b > 0 ? fmt::format("{:.1f}x", a / b) : std::string("-"); };
-  const auto pair = [](const LatencySummary& l) { return us(l.p50_us) + " / " + us(l.p99_us); };
   std::string t = "| figure | wheeltecd | floor | ratio | target | |\n|---|---|---|---|---|---|\n";
   t += row({"command latency p50, drive -> frame (us)", us(command.p50_us), "bus " + us(bus.p50_us) + " / relay " + us(relay_command.p50_us),
             ratio(command.p50_us, bus.p50_us) + " / " + ratio(command.p50_us, relay_command.p50_us), "", ""});
@@ -384,8 +376,8 @@ int measure(const Settings& s) {
             "bus " + us(bus.p99_us) + " / relay " + us(relay_command.p99_us),
             ratio(command.p99_us, bus.p99_us) + " / " + ratio(command.p99_us, relay_command.p99_us), "<= 2x bus floor",
             verdict(command.p99_us <= 2 * bus.p99_us)});
-  t += row({"command: request -> frame on the bus (daemon's part) p50 / p99 (us)", pair(summarize(commands.first.to_frame)),
-            "relay " + pair(summarize(commands.second.to_frame)), "", "", ""});
+  t += row({"command: request -> frame on the bus (daemon's part) p50 / p99 (us)", p50_p99(d["command_latency"]["to_frame"]),
+            "relay " + p50_p99(floor["relay_command_latency"]["to_frame"]), "", "", ""});
   for (const auto& [n, mine_l, relay_l] : {std::tuple{1, &mine.tel1.all, &relay.tel1.all}, {64, &mine.tel64.all, &relay.tel64.all}}) {
     const std::string who = n == 1 ? "1 subscriber" : "64 subscribers";
     t += row({"telemetry latency p50, " + who + " (us)", us(mine_l->p50_us), "relay " + us(relay_l->p50_us),
@@ -416,11 +408,10 @@ int measure(const Settings& s) {
               "", "", "", ""});
     t += row({"flood: daemon CPU (% of a core)", fmt::format("{:.2f}", pct), "", "", "< 1", verdict(pct < 1.0)});
   }
-  const auto number = [](const json& j, const char* key, const char* field) { return j.contains(key) ? j[key].value(field, 0.0) : 0.0; };
-  if (d.contains("command_syscalls")) {  // the idle counts are priced by scripts/bench.sh
+  if (floor.contains("relay_command_syscalls")) {  // the idle counts are priced by scripts/bench.sh
     t += row({fmt::format("command: system calls per drive (strace -c, {} drives each, in turns)", s.commands),
-              fmt::format("{:.2f}", number(d, "command_syscalls", "syscalls_per_drive")),
-              fmt::format("relay {:.2f}", number(floor, "relay_command_syscalls", "syscalls_per_drive")), "", "", ""});
+              fmt::format("{:.2f}", d["command_syscalls"]["syscalls_per_drive"].get<double>()),
+              fmt::format("relay {:.2f}", floor["relay_command_syscalls"]["syscalls_per_drive"].get<double>()), "", "", ""});
   }
   t += row({"RSS, 0 clients (MiB)", fmt::format("{:.2f}", rss0.rss_kib / 1024.0), "", "", "", ""});
   t += row({"RSS, 64 clients (MiB)", fmt::format("{:.2f}", rss64.rss_kib / 1024.0), "", "", "< 8", verdict(rss64.rss_kib < 8 * 1024)});

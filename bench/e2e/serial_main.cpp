@@ -25,7 +25,7 @@ struct Options {
   std::string wheeltecd, json_path;
   int commands = 2000, records = 1000;
 };
-std::string pair(const LatencySummary& l) { return fmt::format("{:.0f} / {:.0f}", l.p50_us, l.p99_us); }
+std::string pair(const LatencySummary& l) { return p50_p99(l.to_json()); }
 // The pty's own cost, the floor: `count` times `to_slave` bytes master -> slave and `to_master` back.
 std::pair<LatencySummary, LatencySummary> pty_floor(int count, std::size_t to_slave, std::size_t to_master) {
   const auto pty = open_pty();

@@ -25,6 +25,7 @@
 #include "control_io.hpp"
 #include "control_loop.hpp"
 #include "control_policy.hpp"
+#include "event_fanout.hpp"
 #include "harness.hpp"
 #include "rpc_handler.hpp"
 #include "wheeltec/asio_can/frame_reader.hpp"
@@ -40,11 +41,6 @@ using namespace wheeltec::daemon;
 namespace fs = std::filesystem;
 
 constexpr std::size_t kSubscribers = 64;
-double thread_cpu_s(clockid_t clock) {
-  timespec t{};
-  ::clock_gettime(clock, &t);
-  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
-}
 struct Settings {
   double step_s = 2.0, max_rate_hz = 64000;
   std::string floor;  // wheeltec-bench-floor; empty: the daemon's path only
@@ -59,8 +55,7 @@ struct GatewayUnderTest {
   std::function<std::uint64_t()> notifications_replaced;
   std::shared_ptr<void> owner;
 };
-// wheeltecd's telemetry path on its own thread, fed through `frame_socket`.
-class DaemonPath {
+class DaemonPath {  // wheeltecd's telemetry path on its own thread, fed through `frame_socket`
  public:
   DaemonPath(const fs::path& socket, int frame_socket)
       : config_([&] {
@@ -73,10 +68,10 @@ class DaemonPath {
         telemetry_(20.0),
         supervisor_(supervisor_settings(config_)),
         control_io_(io_, link_, config_),
-        control_(control_io_.ports(), supervisor_, config_),
-        rpc_(control_, telemetry_, config_.chassis.type, config_.transport, counters_, [] { return json::object(); },
-             [] { return json::object(); }),
-        api_(io_, config_.api, std::nullopt, ControlPolicy(config_.api, ::getuid()), rpc_, counters_),
+        control_(control_io_.ports(), supervisor_, config_, events_),
+        rpc_(control_, telemetry_, config_.chassis.type, config_.transport, counters_, events_,
+             [] { return json::object(); }, [] { return json::object(); }),
+        api_(io_, config_.api, std::nullopt, ControlPolicy(config_.api, ::getuid()), rpc_, counters_, events_),
         frames_(io_),
         reader_(frames_, [this](std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
           on_frames(frames, ec);
@@ -91,7 +86,6 @@ class DaemonPath {
     ::pthread_setname_np(thread_.native_handle(), "wheeltecd-path");  // for perf and top
     ::pthread_getcpuclockid(thread_.native_handle(), &cpu_clock_);
   }
-
   ~DaemonPath() {
     boost::asio::post(io_, [this] {
       api_.close();
@@ -101,9 +95,7 @@ class DaemonPath {
     });
     thread_.join();
   }
-
-  double cpu_s() { return thread_cpu_s(cpu_clock_); }
-
+  double cpu_s() { return bench::clock_s(cpu_clock_); }
   std::uint64_t notifications_replaced() {
     std::promise<std::uint64_t> count;
     boost::asio::post(io_, [&] { count.set_value(counters_.notifications_dropped); });
@@ -122,11 +114,11 @@ class DaemonPath {
     api_.send_queued();  // as Gateway does after each batch (CanLink::on_batch_handled)
     if (!ec) reader_.start();
   }
-
   boost::asio::io_context io_;
   boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_{io_.get_executor()};
   GatewayConfig config_;
   ApiCounters counters_;
+  EventFanout events_;  // not attached to api_: the subscribers here take telemetry only
   CanChassisLink link_;  // never started: the ControlLoop (and so the RpcHandler) needs one
   TelemetryReassembler reassembler_;
   TelemetryDecoder telemetry_;
@@ -172,7 +164,7 @@ std::pair<json, bool> run_step(double rate_hz, double step_s, const GatewayUnder
   const auto total = static_cast<std::uint64_t>(std::llround(rate_hz * step_s));
   const std::uint64_t replaced_before = gateway.notifications_replaced();
   const double gateway_before = gateway.cpu_s();
-  const double subscribers_before = thread_cpu_s(CLOCK_THREAD_CPUTIME_ID);
+  const double subscribers_before = bench::clock_s(CLOCK_THREAD_CPUTIME_ID);
   std::vector<std::size_t> lines(set.size(), 0);
   const int first_seq = next_seq;
   next_seq += static_cast<int>(total);
@@ -181,7 +173,7 @@ std::pair<json, bool> run_step(double rate_hz, double step_s, const GatewayUnder
   const auto [records, send_s] = sender.get();
   const std::uint64_t expected = records * set.size(), received = set.read_rest(lines, expected);
   const double gateway_cpu_s = gateway.cpu_s() - gateway_before;
-  const double subscribers_cpu_s = thread_cpu_s(CLOCK_THREAD_CPUTIME_ID) - subscribers_before;
+  const double subscribers_cpu_s = bench::clock_s(CLOCK_THREAD_CPUTIME_ID) - subscribers_before;
   const std::uint64_t replaced = gateway.notifications_replaced() - replaced_before;
   const double achieved = send_s > 0 ? static_cast<double>(records) / send_s : 0.0;
   const bool reached = records > 0 && achieved >= 0.95 * rate_hz;

@@ -20,8 +20,7 @@ class SpecWork {
   SpecWork(const SpecWork&) = delete;
   SpecWork& operator=(const SpecWork&) = delete;
   int timer_fd() const { return timer_; }
-  // The timer fired: one zero-velocity control frame (nobody drives at idle), as wheeltecd's tick.
-  void on_timer();
+  void on_timer();  // the timer fired: one zero-velocity control frame (nobody drives at idle), as wheeltecd's tick
   // Reassembly, checks, decoding, odometry, attitude; a record's notification appended to `batch` (true).
   bool on_frame(const can_frame& frame, RealtimeNanos time, std::string& batch);
  private:

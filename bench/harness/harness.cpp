@@ -70,10 +70,10 @@ std::string load_average() {
 }  // namespace
 
 // ---- clocks, /proc, command lines, child programs, counts ----
-double now_us() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) / 1e3;
+double clock_s(clockid_t clock) {
+  timespec ts{};
+  ::clock_gettime(clock, &ts);
+  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) / 1e9;
 }
 std::int64_t realtime_ns() {
   timespec ts{};
@@ -119,19 +119,15 @@ BenchCommandLine::BenchCommandLine(std::string name, std::string usage)
   app_.set_help_flag();
 }
 void BenchCommandLine::parse(int argc, char** argv) {
-  bool help = false;
-  app_.add_flag("-h,--help", help);
-  std::optional<std::string> error;
-  try {
-    app_.parse(argc, argv);
-  } catch (const CLI::ParseError& parse_error) {
-    error = parse_error.what();
-  }
-  if (help) {
+  if (std::any_of(argv + 1, argv + argc, [](std::string_view arg) { return arg == "-h" || arg == "--help"; })) {
     std::cout << usage_;
     std::exit(0);
   }
-  if (error) throw std::invalid_argument(*error);
+  try {
+    app_.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    throw std::invalid_argument(error.what());
+  }
 }
 int BenchCommandLine::run(const std::function<int()>& body) const {
   try {
@@ -245,9 +241,11 @@ LatencySummary summarize(std::vector<double> samples_us) {
   return summary;
 }
 json LatencySummary::to_json() const { return {{"count", count}, {"p50_us", p50_us}, {"p99_us", p99_us}, {"max_us", max_us}}; }
-json samples_json(std::vector<double> samples_us) {
+json summary_with_samples(std::vector<double> samples_us) {
+  json j = summarize(samples_us).to_json();
   for (auto& sample : samples_us) sample = std::round(sample);
-  return samples_us;
+  j["samples_us"] = samples_us;
+  return j;
 }
 TelemetryMatch match_records(const std::vector<std::int64_t>& frames_ns, const Receipts& receipts, std::int64_t from_ns,
                              std::int64_t to_ns) {
@@ -270,8 +268,7 @@ TelemetryMatch match_records(const std::vector<std::int64_t>& frames_ns, const R
   return match;
 }
 json match_json(const TelemetryMatch& match, bool with_samples) {
-  json j = summarize(match.latency_us).to_json();
-  if (with_samples) j["samples_us"] = samples_json(match.latency_us);
+  json j = with_samples ? summary_with_samples(match.latency_us) : summarize(match.latency_us).to_json();
   j.update({{"on_bus", match.on_bus}, {"delivered", match.delivered}, {"lost", match.lost()}});
   return j;
 }
@@ -295,7 +292,6 @@ json counters_delta(const json& before, const json& after) {
   return delta;
 }
 std::string us(double value) { return fmt::format("{:.0f}", value); }
-std::string mib(const json& j, const char* key) { return fmt::format("{:.2f}", j.value(key, 0.0) / 1024.0); }
 std::string p50_p99(const json& summary) {
   if (summary.value("count", 0) == 0) return "-";
   return fmt::format("{:.0f} / {:.0f}", summary["p50_us"].get<double>(), summary["p99_us"].get<double>());
@@ -368,8 +364,7 @@ std::string LineClient::read_line(int timeout_ms) {
   }
 }
 std::size_t LineClient::drain_lines() {
-  // One recv per readiness (level-triggered): to EAGAIN would cost UML a second call per wakeup.
-  receive(0);
+  receive(0);  // one recv per readiness (level-triggered): to EAGAIN would cost UML a second call per wakeup
   const auto count = static_cast<std::size_t>(std::count(buffer_.begin(), buffer_.end(), '\n'));
   buffer_.erase(0, buffer_.rfind('\n') == std::string::npos ? 0 : buffer_.rfind('\n') + 1);
   return count;
@@ -444,10 +439,7 @@ CanEndpoint::CanEndpoint(const std::string& interface, std::vector<std::uint32_t
   if (::setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof(on)) != 0) throw system_error("SO_TIMESTAMPNS");
 }
 void CanEndpoint::send(const wheeltec::CanFrame& frame) {
-  can_frame raw{};
-  raw.can_id = frame.id;
-  raw.can_dlc = frame.dlc;
-  std::memcpy(raw.data, frame.data.data(), 8);
+  const can_frame raw = wheeltec::asio_can::to_socketcan(frame);
   // A full transmit queue (ENOBUFS) under a flood: wait for room rather than lose the frame.
   for (int attempt = 0; attempt < 1000; ++attempt) {
     if (::write(fd_, &raw, sizeof(raw)) == static_cast<ssize_t>(sizeof(raw))) return;
@@ -553,12 +545,11 @@ void write_all(int fd, std::span<const std::uint8_t> bytes) {
     const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
     if (n > 0) {
       done += static_cast<std::size_t>(n);
-    } else if (n < 0 && errno != EAGAIN && errno != EINTR) {
-      throw system_error("pty write");
-    } else {
-      pollfd room{fd, POLLOUT, 0};
-      ::poll(&room, 1, 10);
+      continue;
     }
+    if (n < 0 && errno != EAGAIN && errno != EINTR) throw system_error("pty write");
+    pollfd room{fd, POLLOUT, 0};
+    ::poll(&room, 1, 10);
   }
 }
 PtyEndpoint::PtyEndpoint(const std::filesystem::path& link) : link_(link) {
@@ -648,13 +639,8 @@ CommandFrames can_command_frames(const std::string& interface) {
   return {[control] { control->drain(); }, [control](int mm_per_s, int timeout_ms) -> std::optional<std::int64_t> {
             const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
             while (std::chrono::steady_clock::now() < deadline) {
-              boost::system::error_code ec;
-              auto received = wheeltec::asio_can::receive_frame(control->fd(), ec);
-              if (!received) {
-                pollfd ready{control->fd(), POLLIN, 0};
-                ::poll(&ready, 1, std::min(50, timeout_ms));
-                continue;
-              }
+              const auto received = control->receive(std::min(50, timeout_ms));
+              if (!received) continue;
               const auto command = wheeltec::decode_control_frame(wheeltec::Dialect::manual, received->frame);
               if (command && command->x == mm_per_s) return received->time.time_since_epoch().count();
             }
@@ -765,22 +751,22 @@ void Robot::start_bridge(int broker_port) {
       "--robot", name, "--log-level", "info"}, directory);
 }
 void Robot::start_paho_bridge(int broker_port, const std::string& robot) {
-  paho_bridge = std::make_unique<ChildProgram>("paho-bridge", std::vector<std::string>{programs.python, programs.paho_bridge,
+  paho_bridge = std::make_unique<ChildProgram>("paho-bridge", std::vector<std::string>{"/usr/bin/python3", programs.paho_bridge,
       "--socket", socket.string(), "--broker", "127.0.0.1:" + std::to_string(broker_port), "--robot", robot}, directory);
 }
+constexpr std::pair<std::unique_ptr<ChildProgram> Robot::*, const char*> kRobotPrograms[] = {
+    {&Robot::emulator, "wheeltec-emu"}, {&Robot::daemon, "wheeltecd"}, {&Robot::bridge, "wheeltec-mqtt"}, {&Robot::paho_bridge, "paho bridge"}};
 std::vector<std::string> Robot::ended() {
   std::vector<std::string> names;
-  for (auto [program, what] : {std::pair{&emulator, "wheeltec-emu"}, {&daemon, "wheeltecd"}, {&bridge, "wheeltec-mqtt"},
-                               {&paho_bridge, "paho bridge"}}) {
-    if (*program && !(*program)->running()) names.push_back(name + "'s " + what);
+  for (const auto& [program, what] : kRobotPrograms) {
+    if (this->*program && !(this->*program)->running()) names.push_back(name + "'s " + what);
   }
   return names;
 }
 std::string Robot::logs() const {
   std::string text;
-  for (auto [program, what] : {std::pair{&emulator, "wheeltec-emu"}, {&daemon, "wheeltecd"}, {&bridge, "wheeltec-mqtt"},
-                               {&paho_bridge, "paho bridge"}}) {
-    if (*program) text += "--- " + name + " " + what + ":\n" + (*program)->log_tail();
+  for (const auto& [program, what] : kRobotPrograms) {
+    if (this->*program) text += "--- " + name + " " + what + ":\n" + (this->*program)->log_tail();
   }
   return text;
 }
@@ -793,9 +779,8 @@ void DriveSeries::add(int mm_per_s, std::int64_t sent_ns, std::optional<std::int
   timed.push_back({mm_per_s, sent_ns, *frame_ns});
 }
 json DriveSeries::to_json() const {
-  json j = summarize(latency_us).to_json();
+  json j = summary_with_samples(latency_us);
   j["missed"] = missed;
-  j["samples_us"] = samples_json(latency_us);
   return j;
 }
 int next_target(int& mm_per_s, int base) { return mm_per_s = base + (mm_per_s - base + 1) % 100; }

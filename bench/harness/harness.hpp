@@ -34,8 +34,8 @@
 namespace bench {
 
 // ---- clocks, /proc, command lines, child programs, counts ----
-
-double now_us();             // CLOCK_MONOTONIC
+double clock_s(clockid_t clock);  // seconds on any clock (CLOCK_THREAD_CPUTIME_ID, a thread's CPU clock)
+inline double now_us() { return clock_s(CLOCK_MONOTONIC) * 1e6; }
 std::int64_t realtime_ns();  // CLOCK_REALTIME: SO_TIMESTAMPNS' clock, and a record's `time`
 int periodic_timer(double rate_hz, long min_interval_ns, int flags);  // an armed timerfd
 void sleep_ms(double ms);
@@ -76,16 +76,14 @@ class ChildProgram {
   std::filesystem::path log_path_;
   pid_t pid_ = -1;
 };
-// The directory given (created, kept), or a new one in /tmp removed at the end.
-struct WorkDir {
+struct WorkDir {  // the directory given (created, kept), or a new one in /tmp removed at the end
   WorkDir(const std::string& name, const std::string& given = {});
   WorkDir(const WorkDir&) = delete;
   ~WorkDir();
   std::filesystem::path path;
   bool keep;
 };
-// An eventfd a thread polls beside its sockets: readable once raise() was called.
-struct StopSignal {
+struct StopSignal {  // an eventfd a thread polls beside its sockets: readable once raise() was called
   ~StopSignal() { ::close(fd); }
   void raise() { [[maybe_unused]] const auto n = ::eventfd_write(fd, 1); }
   const int fd = ::eventfd(0, EFD_CLOEXEC);
@@ -101,14 +99,13 @@ class SyscallCount {
 };
 
 // ---- figures ----
-
 struct LatencySummary {
   std::size_t count = 0;
   double p50_us = 0.0, p99_us = 0.0, max_us = 0.0;
   nlohmann::json to_json() const;
 };
 LatencySummary summarize(std::vector<double> samples_us);
-nlohmann::json samples_json(std::vector<double> samples_us);  // rounded to the microsecond
+nlohmann::json summary_with_samples(std::vector<double> samples_us);  // and `samples_us`, rounded to the microsecond
 using Receipts = std::vector<std::pair<std::int64_t, std::int64_t>>;  // (record `time` us, received ns)
 struct TelemetryMatch {
   std::size_t on_bus = 0, delivered = 0;  // 0x103 frames in the window; their records received
@@ -124,7 +121,6 @@ std::size_t received_between(const Receipts& receipts, std::int64_t from_ns, std
 // Between two samples of counters: each number's change, and in each object of counts those that changed.
 nlohmann::json counters_delta(const nlohmann::json& before, const nlohmann::json& after);
 std::string us(double value);                               // whole microseconds
-std::string mib(const nlohmann::json& j, const char* key);  // KiB as MiB
 std::string p50_p99(const nlohmann::json& summary);         // "-" without samples
 std::string lost_of(const TelemetryMatch& match);           // "LOST of ON_BUS"
 void latency_row(const std::string& label, const nlohmann::json& summary, const std::string& lost);  // "| label | p50 / p99 | n | lost |"
@@ -134,7 +130,6 @@ int publish_table(const std::string& table, nlohmann::json& out, const std::stri
 void print_errors(const nlohmann::json& errors);
 
 // ---- a gateway's Unix socket ----
-
 class LineClient {
  public:
   explicit LineClient(const std::filesystem::path& socket_path);
@@ -153,8 +148,7 @@ class LineClient {
 };
 // The `result` of a call without parameters, on a connection of its own (2 s at most).
 nlohmann::json api_call(const std::filesystem::path& socket, const std::string& method);
-// N clients subscribed to telemetry, read through one epoll set.
-class SubscriberSet {
+class SubscriberSet {  // N clients subscribed to telemetry, read through one epoll set
  public:
   SubscriberSet(const std::filesystem::path& socket_path, std::size_t count);
   ~SubscriberSet() { ::close(epoll_fd_); }
@@ -170,7 +164,6 @@ class SubscriberSet {
 };
 
 // ---- CAN ----
-
 // A raw CAN socket with SO_TIMESTAMPNS, receiving the standard IDs given (none: nothing).
 class CanEndpoint {
  public:
@@ -206,7 +199,6 @@ std::optional<std::int64_t> record_time_us(const std::string& json_text);
 std::optional<std::int64_t> record_seq(const std::string& json_text);
 
 // ---- the chassis on a serial line, played by the benchmark ----
-
 wheeltec::emulator::PseudoTerminal open_pty();                 // raw; throws when none
 void write_all(int fd, std::span<const std::uint8_t> bytes);  // waits for room
 // A pty's master, its raw slave published at `link` and kept open (no hang-up before the daemon opens it).
@@ -249,7 +241,6 @@ CommandFrames can_command_frames(const std::string& interface);
 CommandFrames pty_command_frames(PtyEndpoint& line);
 
 // ---- a gateway's two latencies, whatever carries the chassis' side ----
-
 wheeltec::RawTelemetry bench_record(int n);  // a valid record at rest, `n` varying vx
 wheeltec::TelemetryGroup bench_group(int n);
 // Drives, and their part until the link put the frame (CAN: its kernel timestamp): the gateway's part.
@@ -271,13 +262,11 @@ TelemetryLatency telemetry_latency(const std::filesystem::path& socket, std::siz
                                    const std::function<double(int n)>& send_record);
 
 // ---- the bridge benchmarks ----
-
 struct FleetPrograms {
   std::string wheeltecd, emulator, bridge, mosquitto = "/usr/sbin/mosquitto";
-  std::string paho_bridge, python = "/usr/bin/python3";  // bench/mqtt/paho_bridge.py, run by python
+  std::string paho_bridge;  // bench/mqtt/paho_bridge.py, run by /usr/bin/python3
 };
-// A robot's programs in a directory of its own: wheeltec-emu (on CAN), wheeltecd and the bridges.
-struct Robot {
+struct Robot {  // a robot's programs in a directory of its own: wheeltec-emu (on CAN), wheeltecd and the bridges
   Robot(const FleetPrograms& programs, std::filesystem::path directory, std::string name, std::string interface,
         const std::filesystem::path& serial_device = {});
   void start_emulator();

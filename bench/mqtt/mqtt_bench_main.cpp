@@ -20,7 +20,7 @@ constexpr const char* kPahoRobot = "py1";  // the paho bridge's topics: r1's dae
 constexpr const char* kHopTopic = "wheeltec-bench/hop";  // the broker's hop alone: no bridge subscribes
 struct Settings : BridgeSettings {
   std::vector<int> robots{1, 2, 4, 8, 16};
-  double step_s = 10.0;
+  double step_s = 10.0;  // each scaling step (--quick: 3)
   bool keep_going = false;  // scaling: go on after a step that lost records
   int run_all_up_to = 8;    // scaling: steps of up to this many robots run even after a lossy one
   std::vector<std::string> broker_config;  // more lines of mosquitto.conf
@@ -28,10 +28,9 @@ struct Settings : BridgeSettings {
   bool serial = false;                     // r1's chassis a pty played by the benchmark; no emulator
 };
 constexpr const char* kUsage =
-    "[--mosquitto PATH] [--robots 1,2,4,8,16] [--step-seconds S] [--keep-going] [--loss-rounds N]\n"
-    "       [--serial] [--broker-config 'MOSQUITTO.CONF LINE']... --paho-bridge bench/mqtt/paho_bridge.py\n"
-    "       [--python /usr/bin/python3]\n"
-    "The paho bridge (Python) drives r1's daemon as robot py1. Scaling: the steps of up to 8 robots\n"
+    "[--mosquitto PATH] [--robots 1,2,4,8,16] [--keep-going] [--loss-rounds N] [--serial]\n"
+    "       [--broker-config 'MOSQUITTO.CONF LINE']... --paho-bridge bench/mqtt/paho_bridge.py\n"
+    "The paho bridge (/usr/bin/python3) drives r1's daemon as robot py1. Scaling: the steps of up to 8 robots\n"
     "(--quick: 2) always run, then a step that lost records or found the machine 95 % busy is the last\n"
     "(--keep-going: every step). Runs where vcan0..vcanN-1 exist (scripts/vcan-run); --serial: natively,\n"
     "r1's chassis a pseudo-terminal played by the benchmark (no --emulator): the drives and broker loss only.\n";
@@ -40,9 +39,7 @@ Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) 
   parse_bridge_options(command_line, s, {.telemetry_s = 3.0, .drives = 40, .drive_block = 20}, argc, argv, [&] {
     command_line.value("--mosquitto", s.programs.mosquitto);
     command_line.value("--paho-bridge", s.programs.paho_bridge);
-    command_line.value("--python", s.programs.python);
     command_line.value("--robots", s.robots)->delimiter(',');
-    command_line.value("--step-seconds", s.step_s);
     command_line.value("--broker-config", s.broker_config)->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     command_line.value("--loss-rounds", s.loss_rounds);
     command_line.flag("--keep-going", s.keep_going);
@@ -53,7 +50,7 @@ Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) 
   }
   if (s.quick) {
     if (!command_line.given("--robots")) s.robots = {1, 2};
-    if (!command_line.given("--step-seconds")) s.step_s = 3.0;
+    s.step_s = 3.0;
     s.run_all_up_to = 2;
     if (!command_line.given("--loss-rounds")) s.loss_rounds = 2;
   }
@@ -61,7 +58,7 @@ Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) 
       s.programs.paho_bridge.empty()) {
     throw std::invalid_argument("--wheeltecd, --emulator (except with --serial), --bridge and --paho-bridge are required");
   }
-  if (s.robots.empty() || s.step_s <= 0) throw std::invalid_argument("nothing to measure");
+  if (s.robots.empty()) throw std::invalid_argument("nothing to measure");
   return s;
 }
 std::string robot_name(std::size_t index) { return "r" + std::to_string(index + 1); }
@@ -69,7 +66,6 @@ std::string interface_name(std::size_t index) { return "vcan" + std::to_string(i
 std::string topic(const std::string& robot, const char* leaf) { return fmt::format("{}/{}/{}", kPrefix, robot, leaf); }
 
 // ---- what the subscriber received, by robot ----
-
 struct TelemetryReceipt {
   std::int64_t time_us;      // the record's `time`: the bus timestamp of its 0x103 frame
   std::int64_t received_ns;  // when the subscriber's callback ran
@@ -87,7 +83,6 @@ struct RobotInbox {
 class Inbox {
  public:
   explicit Inbox(MqttSubscriber& subscriber) : subscriber_(subscriber) {}
-
   void absorb() {  // files what the subscriber got since the last call
     for (auto& message : subscriber_.take()) {
       const auto first = message.topic.find('/');  // PREFIX/ROBOT/LEAF...
@@ -108,7 +103,6 @@ class Inbox {
   }
   RobotInbox& robot(const std::string& name) { return robots_[name]; }
   std::vector<json>& results() { return results_; }
-
   void wait(double ms) {  // sleeps, filing what arrives meanwhile
     const auto end = std::chrono::steady_clock::now() + std::chrono::microseconds(static_cast<long long>(ms * 1000));
     for (absorb(); std::chrono::steady_clock::now() < end; absorb()) {
@@ -116,34 +110,25 @@ class Inbox {
                                                                                std::chrono::milliseconds(100)));
     }
   }
-
  private:
   MqttSubscriber& subscriber_;
   std::map<std::string, RobotInbox> robots_;
   std::vector<json> results_;
 };
 // Where missing records were lost, from the `seq` of those received around each: consecutive numbers
-// mean that wheeltecd never accepted one; a gap, that the record was lost after it.
+// mean that wheeltecd never accepted one; a gap, that the record was lost after it. Added to `split`.
 struct LossSplit { std::size_t not_accepted = 0, after_daemon = 0, unknown = 0; };
-LossSplit split_losses(const std::vector<std::int64_t>& missing_ns, std::vector<TelemetryReceipt> receipts) {
+void split_losses(const std::vector<std::int64_t>& missing_ns, std::vector<TelemetryReceipt> receipts, LossSplit& split) {
   std::sort(receipts.begin(), receipts.end(), [](const auto& a, const auto& b) { return a.time_us < b.time_us; });
-  LossSplit split;
   for (const std::int64_t frame_ns : missing_ns) {
     const auto next = std::lower_bound(receipts.begin(), receipts.end(), frame_ns / 1000,
                                        [](const TelemetryReceipt& r, std::int64_t us) { return r.time_us < us; });
-    if (next == receipts.begin() || next == receipts.end() || next->seq < 0 || std::prev(next)->seq < 0) {
-      ++split.unknown;
-    } else if (next->seq - std::prev(next)->seq >= 2) {
-      ++split.after_daemon;
-    } else {
-      ++split.not_accepted;
-    }
+    const bool known = next != receipts.begin() && next != receipts.end() && next->seq >= 0 && std::prev(next)->seq >= 0;
+    ++(!known ? split.unknown : next->seq - std::prev(next)->seq >= 2 ? split.after_daemon : split.not_accepted);
   }
-  return split;
 }
 
 // ---- 1. drives, then broker loss ----
-
 struct DriveResults {
   DriveSeries mqtt, direct, paho;
   DriveSeries broker_hop;  // a drive-sized message published -> a plain subscriber's callback: in both bridges' paths
@@ -280,7 +265,6 @@ json measure_broker_loss(Broker& broker, const CommandFrames& frames, const std:
 }
 
 // ---- the fleet ----
-
 struct Fleet {
   std::unique_ptr<Broker> broker;
   std::vector<std::unique_ptr<Robot>> robots;
@@ -309,7 +293,6 @@ void grow_fleet(const Settings& settings, Fleet& fleet, std::size_t count, const
 }
 
 // ---- 2 and 3: 1 robot on CAN, telemetry latency, CPU and system calls per record ----
-
 struct TelemetryFigures {
   json telemetry, cpu, syscalls;
   TelemetryMatch via_mqtt, direct;
@@ -318,7 +301,7 @@ TelemetryFigures measure_telemetry(const Settings& settings, Fleet& fleet, BusOb
                                    const fs::path& work, json& errors) {
   Robot& r1 = *fleet.robots[0];
   std::cerr << "wheeltec-bench-mqtt: telemetry, 1 robot, " << settings.telemetry_s << " s\n";
-  CpuWindow window({r1.bridge->pid(), r1.daemon->pid(), fleet.broker->pid(), r1.emulator->pid()});
+  CpuWindow window({r1.bridge->pid()});
   inbox.wait(settings.telemetry_s * 1000);
   window.close();
   inbox.wait(1000);  // records of the window still on their way
@@ -329,14 +312,10 @@ TelemetryFigures measure_telemetry(const Settings& settings, Fleet& fleet, BusOb
   figures.direct = match_records(frames, observer.direct_notifications(), window.from_ns, window.to_ns);
   // Records the bridge published in the window: those received in it.
   const std::size_t published = received_between(received(), window.from_ns, window.to_ns);
-  auto per_record_us = [&](double cpu) { return published == 0 ? 0.0 : cpu / static_cast<double>(published) * 1e6; };
   figures.telemetry = {{"window_s", window.seconds()}, {"via_mqtt", match_json(figures.via_mqtt, true)},
                        {"direct_wheeltecd_subscriber", match_json(figures.direct, true)}};
-  figures.cpu = {{"records_published", published}, {"bridge_cpu_s", window.cpu_s(0)}, {"machine_busy_pct", window.busy_pct()}};
-  for (const auto& [key, index] : {std::pair{"bridge_us_per_record", 0}, {"wheeltecd_us_per_record", 1},
-                                   {"mosquitto_us_per_record", 2}, {"emulator_us_per_record", 3}}) {
-    figures.cpu[key] = per_record_us(window.cpu_s(index));
-  }
+  figures.cpu = {{"records_published", published}, {"bridge_cpu_s", window.cpu_s(0)},
+                 {"bridge_us_per_record", published == 0 ? 0.0 : window.cpu_s(0) / static_cast<double>(published) * 1e6}};
   if (figures.via_mqtt.delivered == 0) errors.push_back("no telemetry record matched between the bus and the subscriber");
   if (!settings.strace.empty()) {
     const double seconds = std::min(10.0, settings.telemetry_s);
@@ -352,7 +331,6 @@ TelemetryFigures measure_telemetry(const Settings& settings, Fleet& fleet, BusOb
 }
 
 // ---- 4. N robots on CAN, one subscriber of PREFIX/+/telemetry ----
-
 json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observer, Inbox& inbox, const fs::path& work,
                      json& errors) {
   json steps = json::array();
@@ -399,10 +377,7 @@ json measure_scaling(const Settings& settings, Fleet& fleet, BusObserver& observ
         if (received_ns <= s0) before = after;
       }
       dropped += after - before;
-      const LossSplit split = split_losses(match.missing_ns, got.telemetry);
-      lost.not_accepted += split.not_accepted;
-      lost.after_daemon += split.after_daemon;
-      lost.unknown += split.unknown;
+      split_losses(match.missing_ns, got.telemetry, lost);
       for (auto& name : robot.ended()) ended.push_back(name);
     }
     const double expected = kTelemetryHz * n * seconds;

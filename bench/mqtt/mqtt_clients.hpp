@@ -15,7 +15,6 @@
 namespace bench {
 
 inline std::runtime_error mqtt_error(const std::string& what, int rc) { return std::runtime_error(what + ": " + mosquitto_strerror(rc)); }
-
 // A client connected to host:port (keepalive 60 s), `set_up` before connecting; throws on failure.
 inline mosquitto* mqtt_connect(const std::string& who, const std::string& host, int port, const std::string& client_id, void* self,
                                const std::function<void(mosquitto*)>& set_up) {
@@ -29,7 +28,6 @@ inline mosquitto* mqtt_connect(const std::string& who, const std::string& host, 
   }
   return mosq;
 }
-
 class MqttSubscriber {
  public:
   struct Message {
@@ -90,7 +88,6 @@ class MqttSubscriber {
   std::vector<Message> messages_;
   std::atomic<bool> subscribed_ = false, connected_ = false;
 };
-
 class MqttPublisher {
  public:
   MqttPublisher(const std::string& host, int port, const std::string& client_id) {
@@ -124,9 +121,7 @@ class MqttPublisher {
   mosquitto* mosq_ = nullptr;
   bool acknowledged_ = false;
 };
-
-// mosquitto on a free port of 127.0.0.1 (anonymous, no persistence, and the extra lines).
-class Broker {
+class Broker {  // mosquitto on a free port of 127.0.0.1 (anonymous, no persistence, and the extra lines)
  public:
   Broker(const std::string& mosquitto, const std::filesystem::path& directory, const std::vector<std::string>& extra_config)
       : mosquitto_(mosquitto), directory_(directory), port_(integration::free_loopback_port()) {

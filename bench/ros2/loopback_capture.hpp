@@ -20,8 +20,7 @@ namespace bench {
 
 class LoopbackCapture {
  public:
-  // Throws when the packet socket cannot be opened (not root).
-  LoopbackCapture() {
+  LoopbackCapture() {  // throws when the packet socket cannot be opened (not root)
     fd_ = ::socket(AF_PACKET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, htons(ETH_P_ALL));
     sockaddr_ll address{};
     address.sll_family = AF_PACKET;
@@ -41,10 +40,8 @@ class LoopbackCapture {
     // Only the outgoing copy of each datagram (fewer wakeups on UML's vCPU); filtered again below.
     sock_filter code[] = {
         BPF_STMT(BPF_LD | BPF_B | BPF_ABS, static_cast<std::uint32_t>(SKF_AD_OFF + SKF_AD_PKTTYPE)),
-        BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, PACKET_OUTGOING, 0, 1),
-        BPF_STMT(BPF_RET | BPF_K, 0xffff),
-        BPF_STMT(BPF_RET | BPF_K, 0),
-    };
+        BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, PACKET_OUTGOING, 0, 1), BPF_STMT(BPF_RET | BPF_K, 0xffff),
+        BPF_STMT(BPF_RET | BPF_K, 0)};
     sock_fprog program{static_cast<unsigned short>(sizeof code / sizeof code[0]), code};
     ::setsockopt(fd_, SOL_SOCKET, SO_ATTACH_FILTER, &program, sizeof program);
     thread_ = std::thread([this] { run(); });
@@ -54,8 +51,7 @@ class LoopbackCapture {
     thread_.join();
     ::close(fd_);
   }
-  // (odom stamp in us, CLOCK_REALTIME ns of its first DATA on lo).
-  Receipts odom_sent() const {
+  Receipts odom_sent() const {  // (odom stamp in us, CLOCK_REALTIME ns of its first DATA on lo)
     std::lock_guard lock(mutex_);
     return {odom_.begin(), odom_.end()};
   }
@@ -67,9 +63,7 @@ class LoopbackCapture {
   nlohmann::json counts() const {
     std::lock_guard lock(mutex_);
     nlohmann::json j(counts_);
-    j["odom_samples"] = odom_.size();
-    j["odom_sent_again"] = odom_repeated_;
-    j["cmd_vel_samples"] = cmd_vel_.size();
+    j.update({{"odom_samples", odom_.size()}, {"odom_sent_again", odom_repeated_}, {"cmd_vel_samples", cmd_vel_.size()}});
     return j;
   }
  private:

@@ -5,7 +5,6 @@
 // memory. With a packet socket on lo both latencies are split there (loopback_capture.hpp).
 #include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -21,44 +20,38 @@ namespace fs = std::filesystem;
 
 constexpr const char* kInterface = "vcan0";
 struct Settings : BridgeSettings {  // mosquitto and the paho bridge unused
-  int domain_id = 42;
+  int domain_id = 42;  // the bridge's and the peer's, on loopback only
   bool all_readers = false;          // imu and tf read too, not odom alone
   bool best_effort_readers = false;  // read as robot_localization does: sensor data QoS
 };
 constexpr const char* kUsage =
-    "[--domain-id N] [--all-readers] [--best-effort-readers]   (--bridge: wheeltec-ros2)\n"
+    "[--all-readers] [--best-effort-readers]   (--bridge: wheeltec-ros2)\n"
     "Readers: odom (--all-readers: odom, imu and tf), RELIABLE KEEP_LAST 10 as a default rclcpp subscriber\n"
     "(imu with sensor data QoS); --best-effort-readers: all with sensor data QoS. Runs where vcan0 exists\n"
-    "(scripts/vcan-run); ROS_DOMAIN_ID, ROS_LOCALHOST_ONLY, CYCLONEDDS_URI and the like are ignored.\n";
+    "(scripts/vcan-run), in domain 42 on loopback: ROS_DOMAIN_ID, ROS_LOCALHOST_ONLY and the like are ignored.\n";
 Settings parse_arguments(BenchCommandLine& command_line, int argc, char** argv) {
   Settings s;
   parse_bridge_options(command_line, s, {.telemetry_s = 3.0, .drives = 20, .drive_block = 10}, argc, argv, [&] {
-    command_line.value("--domain-id", s.domain_id);
     command_line.flag("--all-readers", s.all_readers);
     command_line.flag("--best-effort-readers", s.best_effort_readers);
   });
   if (s.programs.wheeltecd.empty() || s.programs.emulator.empty() || s.programs.bridge.empty()) {
     throw std::invalid_argument("--wheeltecd, --emulator and --bridge are required");
   }
-  if (s.domain_id < 0 || s.domain_id > 232) throw std::invalid_argument("--domain-id: 0 to 232");
   return s;
 }
-json memory_json(pid_t pid) {
+json memory_json(pid_t pid) {  // zeros when it is gone
+  ProcessSample sample;
   try {
-    const ProcessSample sample = sample_process(pid);
-    return {{"rss_kib", sample.rss_kib}, {"hwm_kib", sample.hwm_kib}, {"threads", sample.threads}};
-  } catch (const std::exception&) {
-    return {{"rss_kib", 0}, {"hwm_kib", 0}, {"threads", 0}};
-  }
+    sample = sample_process(pid);
+  } catch (const std::exception&) {}
+  return {{"rss_kib", sample.rss_kib}, {"hwm_kib", sample.hwm_kib}, {"threads", sample.threads}};
 }
 
 // ---- the latencies split at the datagram on lo ----
 // Each latency split where the message crossed lo: before and after the datagram.
 json split_json(const char* first, const std::vector<double>& first_us, const char* second, const std::vector<double>& second_us) {
-  json j = {{first, summarize(first_us).to_json()}, {second, summarize(second_us).to_json()}};
-  j[first]["samples_us"] = samples_json(first_us);
-  j[second]["samples_us"] = samples_json(second_us);
-  return j;
+  return {{first, summary_with_samples(first_us)}, {second, summary_with_samples(second_us)}};
 }
 // Records in the window: 0x103 frame -> odom DATA on lo -> odom at the reader.
 json split_telemetry(const std::vector<std::int64_t>& frames_ns, const Receipts& received, const Receipts& on_wire,
@@ -102,11 +95,9 @@ int measure(const Settings& settings, const fs::path& work) {
                                       {"odom_reader", settings.best_effort_readers ? "BEST_EFFORT, KEEP_LAST 5, VOLATILE (sensor data)"
                                                                                    : "RELIABLE, KEEP_LAST 10, VOLATILE (default)"}});
   json errors = json::array();
-  // The bridge and the participant here: loopback only, on the domain given, whatever the environment says.
+  // The bridge and the participant here: loopback only, on domain 42, whatever the environment says.
   for (const char* name : {"ROS_DOMAIN_ID", "ROS_LOCALHOST_ONLY", "ROS_AUTOMATIC_DISCOVERY_RANGE", "CYCLONEDDS_URI",
-                           "FASTRTPS_DEFAULT_PROFILES_FILE"}) {
-    ::unsetenv(name);
-  }
+                           "FASTRTPS_DEFAULT_PROFILES_FILE"}) ::unsetenv(name);
   Robot robot(settings.programs, work / "r1", "r1", kInterface);
   robot.start_emulator();
   robot.start_daemon();
@@ -135,7 +126,7 @@ int measure(const Settings& settings, const fs::path& work) {
   // ---- telemetry latency and CPU per record, nobody driving ----
   std::cerr << "wheeltec-bench-ros2: telemetry, " << settings.telemetry_s << " s\n";
   const json traffic0 = capture ? capture->counts() : json::object();
-  CpuWindow window({bridge.pid(), robot.daemon->pid(), robot.emulator->pid()});
+  CpuWindow window({bridge.pid()});
   sleep_ms(settings.telemetry_s * 1000);
   window.close();
   const std::int64_t t0 = window.from_ns, t1 = window.to_ns;
@@ -146,13 +137,11 @@ int measure(const Settings& settings, const fs::path& work) {
   const TelemetryMatch via_ros2 = match_records(frames, odom, t0, t1);
   const TelemetryMatch direct = match_records(frames, observer.direct_notifications(), t0, t1);
   const std::size_t published = received_between(odom, t0, t1);  // odom samples received in the window
-  auto per_record_us = [&](double cpu) { return published == 0 ? 0.0 : cpu / static_cast<double>(published) * 1e6; };
   json telemetry = {{"window_s", window.seconds()}, {"via_ros2", match_json(via_ros2, true)},
                     {"direct_wheeltecd_subscriber", match_json(direct, true)}, {"loopback_traffic", counters_delta(traffic0, traffic1)}};
   const json cpu = {{"window_s", window.seconds()}, {"records_published", published}, {"imu_samples", peer.imu_samples(t0, t1)},
                     {"tf_samples", peer.tf_samples(t0, t1)}, {"bridge_cpu_s", window.cpu_s(0)},
-                    {"bridge_us_per_record", per_record_us(window.cpu_s(0))}, {"wheeltecd_us_per_record", per_record_us(window.cpu_s(1))},
-                    {"emulator_us_per_record", per_record_us(window.cpu_s(2))}, {"machine_busy_pct", window.busy_pct()}};
+                    {"bridge_us_per_record", published == 0 ? 0.0 : window.cpu_s(0) / static_cast<double>(published) * 1e6}};
   if (capture) telemetry["via_ros2_split"] = split_telemetry(frames, odom, capture->odom_sent(), t0, t1);
   if (via_ros2.delivered == 0) errors.push_back("no odom sample matched with a 0x103 frame on the bus");
   if (direct.delivered == 0) errors.push_back("no notification of the direct subscriber matched with a 0x103 frame");
@@ -211,15 +200,8 @@ int measure(const Settings& settings, const fs::path& work) {
   if (memory["wheeltec_ros2"]["rss_kib"].get<std::uint64_t>() == 0) errors.push_back("no VmRSS of wheeltec-ros2");
   if (!bridge.running()) errors.push_back("wheeltec-ros2 ended:\n" + bridge.log_tail());
   for (const auto& name : robot.ended()) errors.push_back(name + " ended");
-  out.update({{"telemetry", telemetry}, {"cpu_per_record", cpu}, {"drives", drive_json}, {"memory", memory},
-});
+  out.update({{"telemetry", telemetry}, {"cpu_per_record", cpu}, {"drives", drive_json}, {"memory", memory}});
   if (!syscalls.is_null()) out["syscalls_per_record"] = syscalls;
-  {
-    // Kept with --work-dir: each 0x103 frame's time, each odom sample's stamp (us) and arrival (ns).
-    std::ofstream frames_out(work / "frames.txt"), odom_out(work / "odom.txt");
-    for (const std::int64_t frame_ns : observer.record_frames(0)) frames_out << frame_ns << "\n";
-    for (const auto& [time_us, arrival_ns] : peer.odom_receipts()) odom_out << time_us << " " << arrival_ns << "\n";
-  }
 
   // ---- the tables ----
   std::cout << "| wheeltec-ros2 (" << (out["machine"]["user_mode_linux"].get<bool>() ? "User-Mode Linux, " : "")
@@ -248,8 +230,7 @@ int measure(const Settings& settings, const fs::path& work) {
               telemetry["via_ros2_while_driving"], lost_of(while_driving));
   latency_row("reference: 0x103 frame -> direct wheeltecd subscriber, while driving",
               telemetry["direct_wheeltecd_subscriber_while_driving"], lost_of(direct_while_driving));
-  std::cout << "\n";
-  std::cout << fmt::format(
+  std::cout << "\n" << fmt::format(
       "| wheeltec-ros2's cost, {:.0f} s at 20 Hz, {} records ({}) | |\n|---|---|\n"
       "| CPU per record, utime+stime (tick-sampled), us: wheeltec-ros2 | {:.0f} |\n",
       window.seconds(), published,
@@ -271,16 +252,12 @@ int measure(const Settings& settings, const fs::path& work) {
                              syscalls["seconds"].get<double>(), syscalls["records"].get<std::size_t>(),
                              syscall_listing(syscalls["bridge_per_record"]));
   }
-  std::cout << fmt::format("| wheeltec-ros2 memory at the end, MiB: VmRSS / VmHWM ({} threads) | {} / {} |\n",
-                           memory["wheeltec_ros2"]["threads"].get<int>(), mib(memory["wheeltec_ros2"], "rss_kib"),
-                           mib(memory["wheeltec_ros2"], "hwm_kib"));
-  std::cout << fmt::format("| wheeltecd memory at the end, MiB: VmRSS / VmHWM | {} / {} |\n", mib(memory["wheeltecd"], "rss_kib"),
-                           mib(memory["wheeltecd"], "hwm_kib"));
-  print_errors(errors);
-  if (!first_errors.empty()) {
-    std::cout << "\nFirst error replies:\n";
-    for (const auto& error : first_errors) std::cout << "- " << error << "\n";
-  }
+  const auto mib = [&](const char* who, const char* key) { return memory[who][key].get<double>() / 1024.0; };
+  std::cout << fmt::format("| wheeltec-ros2 memory at the end, MiB: VmRSS / VmHWM ({} threads) | {:.2f} / {:.2f} |\n"
+                           "| wheeltecd memory at the end, MiB: VmRSS / VmHWM | {:.2f} / {:.2f} |\n",
+                           memory["wheeltec_ros2"]["threads"].get<int>(), mib("wheeltec_ros2", "rss_kib"),
+                           mib("wheeltec_ros2", "hwm_kib"), mib("wheeltecd", "rss_kib"), mib("wheeltecd", "hwm_kib"));
+  print_errors(errors);  // the first error replies are in ros2.json's drives
   return finish_figures(settings, out, errors, started);
 }
 

@@ -5,7 +5,7 @@
 set -euo pipefail
 build=$1 node_modules=$2 hz=$3 seconds=$4 viewers=$5
 shift 5
-browser= link=(--interface vcan0)
+browser='' link=(--interface vcan0)
 for flag in "$@"; do
   case $flag in
     --no-browser) browser=--no-browser ;;
@@ -29,8 +29,7 @@ port=18090
 echo '{}' >"$work/empty.json"
 
 [[ ${link[0]} == --serial ]] && link=(--serial "$work/tty")
-"$build/emulator/wheeltec-emu" "${link[@]}" --boot-delay 0 --no-self-test --telemetry-hz "$hz" \
-  >"$work/emu.log" 2>&1 &
+"$build/emulator/wheeltec-emu" "${link[@]}" --boot-delay 0 --no-self-test --telemetry-hz "$hz" >"$work/emu.log" 2>&1 &
 pids+=($!)
 for _ in $(seq 50); do [[ ${link[0]} != --serial || -e $work/tty ]] && break; sleep 0.1; done
 "$build/daemon/wheeltecd" --config "$work/empty.json" "${link[@]}" --socket "$work/wheeltecd.sock" --log-level warn >"$work/daemon.log" 2>&1 &

@@ -1,10 +1,8 @@
-// wheeltec-web's benchmark, run by bench/web/session.sh: the 0x103 frame (the record's `time`) to the
-// message at N Foxglove clients, beside a direct subscriber of wheeltecd and (--relay-socket) one through
-// bench/web/relay.py; wheeltec-web's CPU, RSS and (--strace) system calls per record; the same over wss://
-// (--tls-url, --tls-web-pid); and (--devtools PORT, headless Chromium) at wheeltec-web's own page.
-//   node web_bench.cjs --socket PATH --url http://127.0.0.1:PORT --web-pid PID [--viewers 8] [--seconds 20]
-//        [--devtools PORT] [--relay-socket PATH] [--tls-url https://127.0.0.1:PORT2 --tls-web-pid PID2] [--strace PATH]
-// Prints a table and, last, one JSON line with every figure.
+// wheeltec-web's benchmark, run by bench/web/session.sh: the 0x103 frame (the record's `time`) to the message
+// at --viewers Foxglove clients of --url, beside a direct subscriber of wheeltecd's --socket and (--relay-socket)
+// one through bench/web/relay.py; wheeltec-web's (--web-pid) CPU, RSS and (--strace) system calls per record, for
+// --seconds; the same over wss:// (--tls-url, --tls-web-pid); and (--devtools PORT, headless Chromium) at
+// wheeltec-web's own page. Prints a table and, last, one JSON line with every figure.
 'use strict';
 const fs = require('fs');
 const net = require('net');
@@ -17,8 +15,7 @@ const { openPage } = require('../../tests/web/clients/devtools.cjs');
 const options = { viewers: 8, seconds: 20 };
 const camel = (flag) => flag.replace(/^--/, '').replace(/-./g, (m) => m[1].toUpperCase());
 for (let i = 2; i < process.argv.length; i += 2) options[camel(process.argv[i])] = process.argv[i + 1];
-const viewers = Number(options.viewers);
-const seconds = Number(options.seconds);
+const [viewers, seconds] = [Number(options.viewers), Number(options.seconds)];
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 const nowS = () => (performance.timeOrigin + performance.now()) / 1000;
 function fail(why) { console.error(`web_bench: ${why}`); process.exit(1); }
@@ -226,11 +223,7 @@ async function main() {
   const plain = await foxgloveRound(options.url.replace(/^http/, 'ws'), options.webPid);
   const result = { viewers, seconds, foxglove: { daemon: plain.daemon, viewers: plain.viewers, relayed: plain.relayed },
                    relay_floor: plain.relay_floor, cpu: plain.cpu, syscalls: plain.syscalls, added: plain.added, memory: plain.memory };
-  if (options.tlsUrl) {
-    const { daemon, viewers: tlsViewers, relayed, relay_floor, cpu, memory, added, syscalls } =
-      await foxgloveRound(options.tlsUrl.replace(/^https/, 'wss'), options.tlsWebPid);
-    result.tls = { daemon, viewers: tlsViewers, relayed, relay_floor, cpu, memory, added, syscalls };
-  }
+  if (options.tlsUrl) result.tls = await foxgloveRound(options.tlsUrl.replace(/^https/, 'wss'), options.tlsWebPid);
   if (options.devtools) {
     const daemonAgain = new Latencies();
     const again = await daemonSubscriber(options.socket, daemonAgain);
@@ -256,9 +249,7 @@ async function main() {
   console.log(lines.join('\n'));
   console.log(JSON.stringify(result));
   if (!result.foxglove.viewers.n || !result.foxglove.daemon.n || (result.browser && !result.browser.page.n) ||
-      (result.tls && !result.tls.viewers.n)) {
-    fail('some client received nothing');
-  }
+      (result.tls && !result.tls.viewers.n)) fail('some client received nothing');
   process.exit(0);
 }
 

@@ -83,6 +83,7 @@ class Connection::State : public std::enable_shared_from_this<State> {
   TelemetryHandler telemetry_handler_;
   TelemetryTextHandler telemetry_text_handler_;
   StatusHandler status_handler_;
+  EventHandler event_handler_;
   CloseHandler close_handler_;
   boost::asio::local::stream_protocol::socket socket_;
 
@@ -168,7 +169,8 @@ class Connection::State : public std::enable_shared_from_this<State> {
   void deliver_notification(std::string_view method, std::string_view params) {
     const bool telemetry = method == "telemetry";
     if (telemetry && telemetry_text_handler_ && params.starts_with('{')) telemetry_text_handler_(params);
-    if ((telemetry && telemetry_handler_) || (method == "status" && status_handler_)) {
+    if ((telemetry && telemetry_handler_) || (method == "status" && status_handler_) ||
+        (method == "event" && event_handler_)) {
       deliver_parsed(method, Json::parse(params));
     }
   }
@@ -177,6 +179,7 @@ class Connection::State : public std::enable_shared_from_this<State> {
     try {
       if (method == "telemetry" && telemetry_handler_) telemetry_handler_(telemetry_from_json(params));
       if (method == "status" && status_handler_) status_handler_(status_from_json(params));
+      if (method == "event" && event_handler_ && params.is_object()) event_handler_(params);
     } catch (const Json::exception&) {
       // A notification of a newer protocol that lacks a field: skipped, the connection stays.
     }
@@ -230,6 +233,7 @@ void Connection::async_subscribe(CallHandler handler) {
   Json topics = Json::array();
   if (state_->telemetry_handler_ || state_->telemetry_text_handler_) topics.push_back("telemetry");
   if (state_->status_handler_) topics.push_back("status");
+  if (state_->event_handler_) topics.push_back("events");
   async_call("subscribe", {{"topics", topics}}, std::move(handler));
 }
 
@@ -238,6 +242,7 @@ void Connection::on_telemetry_text(TelemetryTextHandler handler) {
   state_->telemetry_text_handler_ = std::move(handler);
 }
 void Connection::on_status(StatusHandler handler) { state_->status_handler_ = std::move(handler); }
+void Connection::on_event(EventHandler handler) { state_->event_handler_ = std::move(handler); }
 void Connection::on_close(CloseHandler handler) { state_->close_handler_ = std::move(handler); }
 
 void Connection::close() { state_->close(boost::asio::error::operation_aborted); }

@@ -40,6 +40,11 @@ class Subscription::State : public std::enable_shared_from_this<State> {
         if (auto self = weak.lock(); self && !self->stopped_) self->status_handler_(status);
       });
     }
+    if (event_handler_) {
+      connection_->on_event([weak](const Json& event) {
+        if (auto self = weak.lock(); self && !self->stopped_) self->event_handler_(event);
+      });
+    }
     connection_->on_close([weak, attempt](boost::system::error_code ec) {
       if (auto self = weak.lock(); self && self->current(attempt)) self->lost(ec);
     });
@@ -75,6 +80,7 @@ class Subscription::State : public std::enable_shared_from_this<State> {
   Connection::TelemetryHandler telemetry_handler_;
   Connection::TelemetryTextHandler telemetry_text_handler_;
   Connection::StatusHandler status_handler_;
+  Connection::EventHandler event_handler_;
   UpHandler up_handler_;
   DownHandler down_handler_;
   bool up_ = false;
@@ -129,6 +135,7 @@ void Subscription::on_telemetry_text(Connection::TelemetryTextHandler handler) {
   state_->telemetry_text_handler_ = std::move(handler);
 }
 void Subscription::on_status(Connection::StatusHandler handler) { state_->status_handler_ = std::move(handler); }
+void Subscription::on_event(Connection::EventHandler handler) { state_->event_handler_ = std::move(handler); }
 void Subscription::on_up(UpHandler handler) { state_->up_handler_ = std::move(handler); }
 void Subscription::on_down(DownHandler handler) { state_->down_handler_ = std::move(handler); }
 

@@ -47,16 +47,23 @@ void ChassisSupervisor::stop() {
   update_command();
 }
 
-bool ChassisSupervisor::client_gone(ClientId client) {
-  if (!arbiter_.release(client)) return false;
-  update_command();
-  return true;
+std::optional<ControlLapse> ChassisSupervisor::lapse() const {
+  if (!arbiter_.owner()) return std::nullopt;
+  return ControlLapse{*arbiter_.owner(), *arbiter_.last_drive(), command_.x != 0 || command_.y != 0 || command_.z != 0};
 }
 
-bool ChassisSupervisor::expire_deadman(MonotonicNanos now) {
-  if (!arbiter_.expire(now)) return false;
+std::optional<ControlLapse> ChassisSupervisor::client_gone(ClientId client) {
+  const auto lapsed = lapse();
+  if (!arbiter_.release(client)) return std::nullopt;
   update_command();
-  return true;
+  return lapsed;
+}
+
+std::optional<ControlLapse> ChassisSupervisor::expire_deadman(MonotonicNanos now) {
+  const auto lapsed = lapse();
+  if (!arbiter_.expire(now)) return std::nullopt;
+  update_command();
+  return lapsed;
 }
 
 void ChassisSupervisor::shut_down() {

@@ -8,6 +8,7 @@ bool ControlArbiter::try_drive(ClientId client, const Velocity& target, Monotoni
   if (owner_ && *owner_ != client) return false;
   owner_ = client;
   target_ = target;
+  last_drive_ = now;
   deadline_ = now + timeout_;
   return true;
 }
@@ -16,6 +17,7 @@ void ControlArbiter::stop() {
   target_ = Velocity{};
   owner_.reset();
   deadline_.reset();
+  last_drive_.reset();
 }
 
 bool ControlArbiter::release(ClientId client) {

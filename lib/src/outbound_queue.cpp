@@ -10,6 +10,7 @@ OutboundQueue::Admission OutboundQueue::push(SharedText text, Kind kind) {
   if (kind == Kind::telemetry && lagging() && replace_pending_telemetry(text)) {
     return Admission{.replaced_telemetry = true, .over_hard_limit = backlog_bytes_ > limits_.hard_bytes};
   }
+  if (kind == Kind::event && lagging()) return Admission{.dropped_event = true};
   if (backlog_bytes_ + size > limits_.hard_bytes) return Admission{.over_hard_limit = true};
   entries_.push_back(Entry{std::move(text), kind});
   backlog_bytes_ += size;

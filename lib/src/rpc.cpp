@@ -244,19 +244,39 @@ std::variant<std::vector<std::string>, Error> parse_topics(const Request& reques
   std::vector<std::string> names;
   for (const json& topic : *topics) {
     if (!topic.is_string()) {
-      return invalid_params(request, fmt::format("unknown topic {} (known: {}, {})", dump(topic),
-                                                 kTopicTelemetry, kTopicStatus));
+      return invalid_params(request, fmt::format("unknown topic {} (known: {}, {}, {})", dump(topic), kTopicTelemetry,
+                                                 kTopicStatus, kTopicEvents));
     }
     const std::string& name = topic.get_ref<const std::string&>();
-    if (name != kTopicTelemetry && name != kTopicStatus) {
-      return invalid_params(request, fmt::format("unknown topic \"{}\" (known: {}, {})", name,
-                                                 kTopicTelemetry, kTopicStatus));
+    if (name != kTopicTelemetry && name != kTopicStatus && name != kTopicEvents) {
+      return invalid_params(request, fmt::format("unknown topic \"{}\" (known: {}, {}, {})", name, kTopicTelemetry,
+                                                 kTopicStatus, kTopicEvents));
     }
     bool seen = false;
     for (const std::string& existing : names) seen = seen || existing == name;
     if (!seen) names.push_back(name);
   }
   return names;
+}
+
+std::variant<std::string_view, Error> parse_mark_params(const Request& request) {
+  const json& params = request.params;
+  if (!params.is_object()) return invalid_params(request, "params must be an object {\"text\": \"...\"}");
+  for (const auto& [key, value] : params.items()) {
+    if (key != "text") return invalid_params(request, fmt::format("unknown param \"{}\"", key));
+  }
+  const auto text = params.find("text");
+  if (text == params.end()) return invalid_params(request, "missing param \"text\"");
+  if (!text->is_string()) return invalid_params(request, fmt::format("text must be a string, got {}", text->type_name()));
+  const std::string& value = text->get_ref<const std::string&>();
+  // The parser took only valid UTF-8: every byte but a continuation byte starts a character.
+  const auto characters = static_cast<std::size_t>(
+      std::count_if(value.begin(), value.end(), [](char byte) { return (static_cast<unsigned char>(byte) & 0xC0) != 0x80; }));
+  if (characters > kMaxMarkCharacters) {
+    return invalid_params(request, fmt::format("text has {} characters, more than the {} a mark may have", characters,
+                                               kMaxMarkCharacters));
+  }
+  return std::string_view(value);
 }
 
 }  // namespace wheeltec::rpc

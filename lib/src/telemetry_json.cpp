@@ -80,15 +80,7 @@ class RecordWriter {
 
   // Seconds since the epoch with 6 decimals, from integer nanoseconds (no rounding of a
   // double: the microseconds are the kernel's).
-  void time(RealtimeNanos time) {
-    const std::int64_t count = time.time_since_epoch().count();
-    if (count < 0) text("-");
-    const std::uint64_t ns = count < 0 ? 0 - static_cast<std::uint64_t>(count) : static_cast<std::uint64_t>(count);
-    integer(ns / 1'000'000'000);
-    text(".");
-    end_ += 6;
-    fixed_decimal_detail::write_digits_backwards<6>(end_, ns % 1'000'000'000 / 1'000);
-  }
+  void time(RealtimeNanos time) { end_ = write_seconds_from_nanos(end_, time.time_since_epoch().count()); }
 
   void append_to(std::string& out) const { out.append(buffer_, static_cast<std::size_t>(end_ - buffer_)); }
 

@@ -10,6 +10,7 @@ readonly WHEELTEC_BUILD_PACKAGES=(
   libmosquitto-dev libssl-dev
   cyclonedds-dev cyclonedds-tools  # wheeltec-ros2's DDS, and idlc for its messages
   ccache  # CMakeLists.txt compiles through it when installed
+  libzstd-dev zlib1g-dev  # the MCAP writer (mcap/): zstd-compressed chunks, zlib's CRC32
 )
 # What running them on a virtual CAN interface needs (the demo and the vcan tests):
 # scripts/vcan-run, natively or inside User-Mode Linux.
@@ -71,8 +72,9 @@ install_dependencies() {
   local packages=("${WHEELTEC_BUILD_PACKAGES[@]}" "${WHEELTEC_VCAN_PACKAGES[@]}")
   if [[ ${1:-} == tests ]]; then
     packages+=("${WHEELTEC_TEST_PACKAGES[@]}")
-    # wheeltec-web's suite runs npm's Foxglove client on node: Debian's nodejs, and its npm
-    # unless the nodejs already installed brings one of its own.
+    # wheeltec-web's suite runs npm's Foxglove client on node, and the MCAP writer's suite
+    # npm's MCAP readers: Debian's nodejs, and its npm unless the nodejs already installed
+    # brings one of its own.
     packages+=(nodejs)
     command -v npm >/dev/null 2>&1 || packages+=(npm)
   fi

@@ -2,8 +2,9 @@
 # Test stage: the tests again under AddressSanitizer + LeakSanitizer +
 # UndefinedBehaviorSanitizer, in one build:
 #   - the unit tests always (they need no CAN interface and run on the host);
-#   - the serial suites always (ctest -L serial: wheeltecd and wheeltec-emu on
-#     pseudo-terminals, which need no CAN interface either);
+#   - the serial suites and the daemon's events suites always (ctest -L serial, ctest -R
+#     '^record\.Events': wheeltecd and wheeltec-emu on pseudo-terminals, which need no CAN
+#     interface either);
 #   - where scripts/vcan-run runs natively (a host with the vcan module), also the
 #     integration suites that need no CAN interface and every vcan suite (ctest -L vcan).
 #   - Inside User-Mode Linux (a kernel without SocketCAN) the vcan suites are not run
@@ -45,10 +46,16 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:dete
 
 failed=0
 build=$prefix
-targets=(unit_tests serial_tests)
-[[ -f $BUILD_DIR/tests/mqtt/mqtt_unit_tests ]] && targets+=(mqtt_unit_tests)
-[[ -f $BUILD_DIR/tests/web/web_unit_tests ]] && targets+=(web_unit_tests)
-[[ -f $BUILD_DIR/tests/ros2/unit/ros2_unit_tests ]] && targets+=(ros2_unit_tests)
+targets=(unit_tests serial_tests record_tests)
+# The unit tests of the optional parts, where the main build has them.
+unit_programs=(tests/unit/unit_tests)
+for program in tests/mqtt/mqtt_unit_tests tests/web/web_unit_tests tests/ros2/unit/ros2_unit_tests \
+    tests/mcap/mcap_unit_tests tests/record/unit/record_unit_tests tests/record/unit/black_box_tests; do
+  if [[ -f $BUILD_DIR/$program ]]; then
+    unit_programs+=("$program")
+    targets+=("$(basename "$program")")
+  fi
+done
 if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
   vcan=native
   targets+=(integration_tests)
@@ -58,18 +65,13 @@ fi
 echo "sanitizers: ASan, LSan and UBSan build of ${targets[*]} in $build"
 configure_and_build_with "$build" "-fsanitize=address,undefined" "${targets[@]}"
 echo "sanitizers: unit tests"
-"$build/tests/unit/unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-if [[ " ${targets[*]} " == *" mqtt_unit_tests "* ]]; then
-  "$build/tests/mqtt/mqtt_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-fi
-if [[ " ${targets[*]} " == *" web_unit_tests "* ]]; then
-  "$build/tests/web/web_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-fi
-if [[ " ${targets[*]} " == *" ros2_unit_tests "* ]]; then
-  "$build/tests/ros2/unit/ros2_unit_tests" --gtest_color=no --gtest_brief=1 || failed=1
-fi
+for program in "${unit_programs[@]}"; do
+  "$build/$program" --gtest_color=no --gtest_brief=1 || failed=1
+done
 echo "sanitizers: serial suites"
 (cd "$build" && ctest -L serial --output-on-failure) || failed=1
+echo "sanitizers: the daemon's events suites"
+(cd "$build" && ctest -R '^record\.Events' --output-on-failure) || failed=1
 if [[ $vcan == native ]]; then
   echo "sanitizers: command-line integration tests"
   "$build/tests/integration/integration_tests" --gtest_filter='CommandLine.*:EmulatorCommandLine.*' --gtest_color=no \

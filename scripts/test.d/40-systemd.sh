@@ -18,7 +18,8 @@ for unit in "$REPO_ROOT"/systemd/*.service; do
   sed -e "s|^ExecStart=/usr/bin/wheeltecd|ExecStart=$BUILD_DIR/daemon/wheeltecd|" \
       -e "s|^ExecStart=/usr/bin/wheeltec-mqtt|ExecStart=$BUILD_DIR/mqtt/wheeltec-mqtt|" \
       -e "s|^ExecStart=/usr/bin/wheeltec-web|ExecStart=$BUILD_DIR/web/wheeltec-web|" \
-      -e "s|^ExecStart=/usr/bin/wheeltec-ros2|ExecStart=$BUILD_DIR/ros2/wheeltec-ros2|" "$unit" >"$work/$name"
+      -e "s|^ExecStart=/usr/bin/wheeltec-ros2|ExecStart=$BUILD_DIR/ros2/wheeltec-ros2|" \
+      -e "s|^ExecStart=/usr/bin/wheeltec-record|ExecStart=$BUILD_DIR/record/wheeltec-record|" "$unit" >"$work/$name"
 done
 for unit in "$REPO_ROOT"/systemd/*.service; do
   name=$(basename "$unit")

@@ -119,5 +119,27 @@ TEST(ClientConnectionLines, ARecordLackingAFieldSkipsOnlyTheTypedHandler) {
   EXPECT_FALSE(seen.closed);
 }
 
+// The events topic (protocol 4): each EVENT object to on_event, in the daemon's key order,
+// in either layout; an event that is not an object is skipped.
+TEST(ClientConnectionLines, EventsGoToTheEventHandlerAsTheyCame) {
+  boost::asio::io_context io;
+  const std::string drive = R"({"time":1795816069.675096,"event":"drive","client":5,"vx":1.000,"vy":0.000,"wz":0.500,"clamped":true})";
+  ScriptedDaemon daemon(io, R"({"jsonrpc":"2.0","method":"event","params":)" + drive + "}\n" +
+                                R"({"jsonrpc":"2.0","method":"event","params":3})" "\n" +
+                                R"({"params":{"time":1.5,"event":"mark","client":6,"text":"x"},"method":"event","jsonrpc":"2.0"})" "\n");
+  Connection connection(io.get_executor());
+  std::vector<Json> events;
+  connection.on_event([&](const Json& event) { events.push_back(event); });
+  bool closed = false;
+  connection.on_close([&](boost::system::error_code) { closed = true; });
+  connection.async_connect(daemon.path(), [](boost::system::error_code ec) { ASSERT_FALSE(ec) << ec.message(); });
+  io.run_for(std::chrono::milliseconds(300));
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0], Json::parse(drive));
+  EXPECT_EQ(events[0].begin().key(), "time") << "the daemon's key order";
+  EXPECT_EQ(events[1]["text"], "x");
+  EXPECT_FALSE(closed);
+}
+
 }  // namespace
 }  // namespace wheeltec::client

@@ -1,5 +1,7 @@
 #include "bridge_config.hpp"
 
+#include "config_text.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -7,21 +9,10 @@ namespace wheeltec::mqtt {
 namespace {
 
 BridgeConfig parsed(const std::string& text) {
-  BridgeConfig config;
-  apply_bridge_config(parse_config_document(text), config);
-  validate_bridge_config(config);
-  return config;
+  return test::config_from_text<BridgeConfig>(text, apply_bridge_config, validate_bridge_config);
 }
 
-// The key a ConfigError names, or "" when the text is accepted.
-std::string refused_key(const std::string& text) {
-  try {
-    parsed(text);
-  } catch (const ConfigError& error) {
-    return error.key();
-  }
-  return "";
-}
+std::string refused_key(const std::string& text) { return test::refused_key_of(parsed, text); }
 
 TEST(MqttConfig, DefaultsAreTheSpecs) {
   const BridgeConfig config = parsed("{}");

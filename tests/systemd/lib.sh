@@ -61,6 +61,15 @@ wait_for() {
   done
 }
 
+unit_failed() { [[ $(systemctl is-active "$1") == failed ]]; }  # UNIT
+# check_refused_to_start UNIT: the unit, just started, fails with exit status 2 and is not
+# restarted (its RestartPreventExitStatus=2).
+check_refused_to_start() {
+  check "the unit fails" wait_for 10 unit_failed "$1"
+  check "with exit status 2" test "$(systemctl show -P ExecMainStatus "$1")" = 2
+  check "and is not restarted (RestartPreventExitStatus=2)" test "$(systemctl show -P NRestarts "$1")" = 0
+}
+
 main_pid() { systemctl show -P MainPID "$UNIT"; }
 is_active() { [[ $(systemctl is-active "$UNIT") == active ]]; }
 pid_changed_and_active() {  # OLD_PID

@@ -84,6 +84,27 @@ TEST_F(ChassisSupervisorTest, OnlyTheOwnerLeavingZeroesTheTarget) {
   EXPECT_EQ(supervisor_.target(), Velocity{});
 }
 
+// What a deadman event reports: whose control lapsed, since when it had not driven, and
+// whether the chassis was commanded to move (a target that quantizes to zero is not).
+TEST_F(ChassisSupervisorTest, ALapseNamesTheOwnerItsLastDriveAndWhetherItMoved) {
+  supervisor_.drive(kAlice, kForward, kStart);
+  supervisor_.drive(kAlice, kForward, kStart + 100ms);
+  const auto lapsed = supervisor_.expire_deadman(kStart + 600ms);
+  ASSERT_TRUE(lapsed);
+  EXPECT_EQ(lapsed->owner, kAlice);
+  EXPECT_EQ(lapsed->last_drive, kStart + 100ms);
+  EXPECT_TRUE(lapsed->moving);
+
+  supervisor_.drive(kBob, {0.0004, 0.0, 0.0}, kStart + 700ms);
+  const auto gone = supervisor_.client_gone(kBob);
+  ASSERT_TRUE(gone);
+  EXPECT_EQ(gone->owner, kBob);
+  EXPECT_EQ(gone->last_drive, kStart + 700ms);
+  EXPECT_FALSE(gone->moving) << "0.0004 m/s is sent as zero";
+  EXPECT_FALSE(supervisor_.client_gone(kBob)) << "nothing left to lapse";
+  EXPECT_FALSE(supervisor_.expire_deadman(kStart + 10s));
+}
+
 TEST_F(ChassisSupervisorTest, RefusalsComeInTheContractsOrder) {
   record(0ms, true);  // flag_stop after a silence: booting
   supervisor_.link_changed(LinkState::down);

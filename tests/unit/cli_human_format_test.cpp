@@ -152,6 +152,52 @@ TEST(CliHumanFormat, Version) {
   EXPECT_EQ(format_version(Json::object()), "wheeltecd ? (protocol ?)");
 }
 
+std::string event_line(const std::string& members) {
+  return format_event_line(Json::parse(R"({"time":1764257412.1234567,)" + members + "}"));
+}
+
+TEST(CliHumanFormat, EventLinesSayWhenWhoAndWhat) {
+  const std::string when = "2025-11-27T15:30:12.123Z  ";
+  EXPECT_EQ(event_line(R"("event":"connected","client":3,"uid":1000,"gid":100,"pid":4242)"),
+            when + "client 3   connected (uid 1000, gid 100, pid 4242)");
+  EXPECT_EQ(event_line(R"("event":"connected","client":3,"uid":null,"gid":null,"pid":null)"),
+            when + "client 3   connected (uid null, gid null, pid null)");
+  EXPECT_EQ(event_line(R"("event":"disconnected","client":3)"), when + "client 3   disconnected");
+  EXPECT_EQ(event_line(R"("event":"drive","client":12,"vx":0.2,"vy":0.0,"wz":-0.5,"clamped":false)"),
+            when + "client 12  drive vx=0.200 vy=0.000 wz=-0.500");
+  EXPECT_EQ(event_line(R"("event":"drive","client":12,"vx":1.0,"vy":0.0,"wz":3.0,"clamped":true)"),
+            when + "client 12  drive vx=1.000 vy=0.000 wz=3.000 (clamped)");
+  EXPECT_EQ(event_line(R"("event":"refused","client":4,"method":"drive","code":-32001,"message":"control is held by client 3")"),
+            when + "client 4   refused drive: control is held by client 3 (code -32001)");
+  EXPECT_EQ(event_line(R"("event":"stop","client":4)"), when + "client 4   stop");
+  EXPECT_EQ(event_line(R"("event":"deadman","client":3,"after_s":0.5)"),
+            when + "client 3   deadman: no drive for 0.500 s, zero velocity, control released");
+  EXPECT_EQ(event_line(R"("event":"enable","client":5)"), when + "client 5   enable");
+  EXPECT_EQ(event_line(R"("event":"disable","client":5)"), when + "client 5   disable");
+  EXPECT_EQ(event_line(R"("event":"mark","client":6,"text":"bumped the door")"),
+            when + R"(client 6   mark "bumped the door")");
+  EXPECT_EQ(event_line(R"("event":"reload","client":null,"ok":true)"),
+            when + "wheeltecd  reload: configuration reloaded");
+  EXPECT_EQ(event_line(R"("event":"reload","client":null,"ok":false,"message":"control.rate_hz: must be a number")"),
+            when + "wheeltecd  reload failed: control.rate_hz: must be a number");
+}
+
+// Texts from clients never reach the terminal as control characters.
+TEST(CliHumanFormat, EventLinesQuoteWhatClientsWrote) {
+  EXPECT_EQ(event_line(R"("event":"mark","client":6,"text":"red \u001b[31m\nline caf\u00e9")"),
+            "2025-11-27T15:30:12.123Z  client 6   mark \"red \\u001b[31m\\nline caf\xC3\xA9\"");
+  EXPECT_EQ(event_line(R"("event":"refused","client":6,"method":"drive","code":-32602,"message":"unknown param \"\u001b\"")"),
+            "2025-11-27T15:30:12.123Z  client 6   refused drive: unknown param \"\\x1b\" (code -32602)");
+}
+
+// A kind of a later protocol shows its members; missing pieces show as "?".
+TEST(CliHumanFormat, EventLinesOfUnknownKindsAndMissingMembers) {
+  EXPECT_EQ(event_line(R"("event":"docked","client":null,"charging":true)"),
+            "2025-11-27T15:30:12.123Z  wheeltecd  docked charging=true");
+  EXPECT_EQ(format_event_line(Json::object()), "?  wheeltecd  ?");
+  EXPECT_EQ(format_event_line(Json::parse(R"({"time":1e300,"event":"stop","client":1})")), "?  client 1   stop");
+}
+
 TEST(CliHumanFormat, DriveStartedShowsWhatWasSent) {
   const Json result = Json::parse(R"({"vx": 0.3, "vy": 0.0, "wz": 0.5, "clamped": false})");
   EXPECT_EQ(format_drive_started(result, {0.3, 0.0, 0.5}, 3.0),

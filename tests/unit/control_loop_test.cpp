@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -42,8 +43,15 @@ struct BusFrame {
   std::optional<Velocity> velocity;   // a control frame: the velocity it commands
 };
 
-// The simulated clock, bus, timers and stall guard: time moves only in advance_to().
-class Simulation : public MonotonicClock, public CommandSink, public StallGuard {
+// An event the loop published.
+struct PublishedEvent {
+  std::optional<ClientId> client;
+  std::string name;
+  std::optional<nanoseconds> after;  // a deadman's
+};
+
+// The simulated clock, bus, timers, stall guard and events: time moves only in advance_to().
+class Simulation : public MonotonicClock, public CommandSink, public StallGuard, public EventSink {
  public:
   explicit Simulation(Dialect dialect) : dialect_(dialect) {}
 
@@ -105,6 +113,11 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard 
   }
   void disarm() override { guard_armed_ = false; }
   void set_rate(double rate_hz) override { guard_rate_hz_ = rate_hz; }
+  void publish(std::optional<ClientId> client, const EventBody& body) override {
+    const auto* deadman = std::get_if<events::Deadman>(&body);
+    events_published_.push_back(
+        {client, std::string(event_name(body)), deadman ? std::optional(deadman->after) : std::nullopt});
+  }
 
   // Fires every event due up to `time`, in time order, each at its own time.
   void advance_to(MonotonicNanos time) {
@@ -132,6 +145,7 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard 
   int beats_ = 0;
   bool guard_armed_ = false;
   double guard_rate_hz_ = 0.0;  // 0: never told
+  std::vector<PublishedEvent> events_published_;
 
  private:
   std::uint64_t next_order() { return ++order_; }
@@ -178,7 +192,7 @@ class ControlLoopTest : public ::testing::Test {
  protected:
   explicit ControlLoopTest(Dialect dialect = Dialect::manual)
       : sim_(dialect), config_(config_for(dialect)), supervisor_(supervisor_settings(config_)),
-        loop_(sim_.ports(), supervisor_, config_) {
+        loop_(sim_.ports(), supervisor_, config_, sim_) {
     loop_.link_changed(LinkState::up);
     loop_.on_change([this] { ++changes_; });
   }
@@ -353,6 +367,50 @@ TEST_F(ControlLoopTest, OwnerGoneSendsZeroAtOnceOthersGoneChangeNothing) {
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
   EXPECT_EQ(supervisor_.owner(), std::nullopt);
   EXPECT_EQ(loop_.drive(kBob, kForward).decision.refusal, std::nullopt);
+}
+
+TEST_F(ControlLoopTest, ADeadmanThatStopsAMovingChassisIsAnEventOfTheOwner) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.advance(200ms);
+  loop_.drive(kAlice, kForward);
+  sim_.advance(kTimeout - 1ns);
+  EXPECT_TRUE(sim_.events_published_.empty());
+  sim_.advance(1ns);
+  ASSERT_EQ(sim_.events_published_.size(), 1u);
+  const PublishedEvent& deadman = sim_.events_published_.front();
+  EXPECT_EQ(deadman.name, "deadman");
+  EXPECT_EQ(deadman.client, kAlice);
+  EXPECT_EQ(deadman.after, kTimeout) << "measured from the last drive";
+}
+
+TEST_F(ControlLoopTest, TheOwnerLeavingAMovingChassisIsADeadmanEvent) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.advance(120ms);
+  loop_.client_gone(kBob);
+  EXPECT_TRUE(sim_.events_published_.empty()) << "Bob held nothing";
+  loop_.client_gone(kAlice);
+  ASSERT_EQ(sim_.events_published_.size(), 1u);
+  EXPECT_EQ(sim_.events_published_[0].name, "deadman");
+  EXPECT_EQ(sim_.events_published_[0].client, kAlice);
+  EXPECT_EQ(sim_.events_published_[0].after, 120ms);
+}
+
+TEST_F(ControlLoopTest, ControlLapsingAtZeroOrEndedByStopIsNoDeadmanEvent) {
+  start();
+  loop_.drive(kAlice, kZero);
+  sim_.advance(kTimeout);
+  EXPECT_EQ(supervisor_.owner(), std::nullopt) << "control lapsed";
+  loop_.drive(kAlice, kZero);
+  loop_.client_gone(kAlice);
+  loop_.drive(kBob, kForward);
+  loop_.stop();
+  sim_.advance(2 * kTimeout);
+  loop_.drive(kBob, kForward);
+  loop_.disable();
+  sim_.advance(2 * kTimeout);
+  EXPECT_TRUE(sim_.events_published_.empty());
 }
 
 TEST_F(ControlLoopTest, StopSendsZeroAtOnceEvenWhenAlreadyZero) {

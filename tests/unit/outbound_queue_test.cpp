@@ -46,6 +46,32 @@ TEST(OutboundQueue, APartialWriteLeavesTheRestOfTheFrontEntry) {
   EXPECT_EQ(queue.backlog_bytes(), 0u);
 }
 
+// Events are never coalesced: while the client lags a new one is not queued (the caller
+// counts it), and none already queued is replaced.
+TEST(OutboundQueue, EventsAreDroppedWhileTheClientLagsNeverReplaced) {
+  OutboundQueue queue(kLimits);
+  const auto first = queue.push(text(60, 'e'), Kind::event);
+  EXPECT_FALSE(first.dropped_event);
+  EXPECT_FALSE(queue.push(text(41, 'f'), Kind::event).dropped_event) << "at the soft limit the client does not lag yet";
+  ASSERT_TRUE(queue.lagging());
+  const auto dropped = queue.push(text(10, 'g'), Kind::event);
+  EXPECT_TRUE(dropped.dropped_event);
+  EXPECT_FALSE(dropped.replaced_telemetry);
+  EXPECT_FALSE(dropped.over_hard_limit);
+  EXPECT_EQ(queue.size(), 2u);
+  EXPECT_EQ(queue.backlog_bytes(), 101u);
+  EXPECT_EQ(contents(queue), std::string(60, 'e') + std::string(41, 'f'));
+
+  // A telemetry message while lagging replaces telemetry only, never an event.
+  EXPECT_FALSE(queue.push(text(5, 't'), Kind::telemetry).replaced_telemetry) << "no telemetry to replace: queued";
+  EXPECT_TRUE(queue.push(text(5, 'u'), Kind::telemetry).replaced_telemetry);
+  EXPECT_EQ(contents(queue), std::string(60, 'e') + std::string(41, 'f') + "uuuuu");
+
+  queue.written(106);
+  EXPECT_FALSE(queue.lagging());
+  EXPECT_FALSE(queue.push(text(10, 'h'), Kind::event).dropped_event) << "caught up: events are queued again";
+}
+
 TEST(OutboundQueue, LagsAboveTheSoftLimit) {
   OutboundQueue queue(kLimits);
   queue.push(text(100), Kind::reply);

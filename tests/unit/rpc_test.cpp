@@ -371,17 +371,23 @@ TEST(RpcNoParams, RejectsAnythingElseWithTheMethodName) {
   }
 }
 
-std::vector<std::string> topics_ok(const json& params) {
-  auto parsed = parse_topics(with_params(params));
+// What `parse` (parse_topics, parse_mark_params) reads from `params`, as a Value made while
+// the request still holds the params.
+template <class Value, class Parse>
+Value parsed_params(Parse parse, const json& params) {
+  const Request request = with_params(params);
+  auto parsed = parse(request);
   if (auto* error = std::get_if<Error>(&parsed)) {
     ADD_FAILURE() << error->message;
     return {};
   }
-  return std::get<std::vector<std::string>>(parsed);
+  return Value(std::get<0>(parsed));
 }
 
-Error topics_error(const json& params) {
-  auto parsed = parse_topics(with_params(params, 8));
+// What `parse` answers to bad `params`: -32602, with the request's id.
+template <class Parse>
+Error invalid_params_error(Parse parse, const json& params) {
+  auto parsed = parse(with_params(params, 8));
   if (!std::holds_alternative<Error>(parsed)) {
     ADD_FAILURE() << "expected an error for " << params.dump();
     return {};
@@ -392,11 +398,23 @@ Error topics_error(const json& params) {
   return e;
 }
 
+std::vector<std::string> topics_ok(const json& params) {
+  return parsed_params<std::vector<std::string>>(parse_topics, params);
+}
+Error topics_error(const json& params) { return invalid_params_error(parse_topics, params); }
+
 TEST(RpcTopics, KnownTopicsInRequestOrderWithoutDuplicates) {
   EXPECT_EQ(topics_ok({{"topics", {"telemetry", "status"}}}), (std::vector<std::string>{"telemetry", "status"}));
   EXPECT_EQ(topics_ok({{"topics", {"status"}}}), (std::vector<std::string>{"status"}));
   EXPECT_EQ(topics_ok({{"topics", {"status", "telemetry", "status"}}}),
             (std::vector<std::string>{"status", "telemetry"}));
+}
+
+TEST(RpcTopics, EventsIsATopic) {
+  EXPECT_EQ(topics_ok({{"topics", {"events"}}}), (std::vector<std::string>{"events"}));
+  EXPECT_EQ(topics_ok({{"topics", {"events", "telemetry", "status"}}}),
+            (std::vector<std::string>{"events", "telemetry", "status"}));
+  EXPECT_TRUE(contains(topics_error({{"topics", {"event"}}}).message, "events")) << "the known topics are listed";
 }
 
 TEST(RpcTopics, UnknownTopicIsNamed) {
@@ -412,6 +430,40 @@ TEST(RpcTopics, MalformedParams) {
   EXPECT_EQ(topics_error({{"topics", {"status"}}, {"all", true}}).message, "unknown param \"all\"");
   topics_error(nullptr);
   topics_error(json::array({"telemetry"}));
+}
+
+std::string mark_text(const json& params) { return parsed_params<std::string>(parse_mark_params, params); }
+Error mark_error(const json& params) { return invalid_params_error(parse_mark_params, params); }
+
+TEST(RpcMark, TheTextAsGivenEmptyIncluded) {
+  EXPECT_EQ(mark_text({{"text", "bumped the door \"A\"\n"}}), "bumped the door \"A\"\n");
+  EXPECT_EQ(mark_text({{"text", ""}}), "");
+}
+
+// The limit counts characters (code points): 200 of them fit however many bytes they take.
+TEST(RpcMark, AtMost200CharactersNotBytes) {
+  EXPECT_EQ(kMaxMarkCharacters, 200u);
+  EXPECT_EQ(mark_text({{"text", std::string(200, 'x')}}).size(), 200u);
+  std::string wide;
+  for (int i = 0; i < 200; ++i) wide += "\xF0\x9F\xA4\x96";  // U+1F916, 4 bytes each
+  EXPECT_EQ(mark_text({{"text", wide}}).size(), 800u);
+  std::string accents;
+  for (int i = 0; i < 200; ++i) accents += "\xC3\xA9";  // é
+  EXPECT_EQ(mark_text({{"text", accents}}).size(), 400u);
+
+  EXPECT_EQ(mark_error({{"text", std::string(201, 'x')}}).message,
+            "text has 201 characters, more than the 200 a mark may have");
+  EXPECT_TRUE(contains(mark_error({{"text", accents + "a"}}).message, "201 characters"));
+}
+
+TEST(RpcMark, MissingNonStringAndUnknownParamsAreRefused) {
+  EXPECT_EQ(mark_error(json::object()).message, "missing param \"text\"");
+  EXPECT_EQ(mark_error({{"text", 42}}).message, "text must be a string, got number");
+  EXPECT_EQ(mark_error({{"text", nullptr}}).message, "text must be a string, got null");
+  EXPECT_EQ(mark_error({{"text", json::array({"a"})}}).message, "text must be a string, got array");
+  EXPECT_EQ(mark_error({{"text", "a"}, {"level", 1}}).message, "unknown param \"level\"");
+  EXPECT_TRUE(contains(mark_error(nullptr).message, "must be an object"));
+  EXPECT_TRUE(contains(mark_error(json::array({"a"})).message, "must be an object"));
 }
 
 // Hostile request lines (issue #4): duplicate keys, huge numbers and mixed garbage get

@@ -33,7 +33,7 @@ TEST_F(WebCommandLine, HelpAndVersion) {
   const auto help = run({"--help"});
   EXPECT_TRUE(help.status.exited_with(0)) << help.describe();
   for (const char* flag : {"--config", "--socket", "--listen", "--token-file", "--allow-origin", "--tls-cert",
-                           "--tls-key", "--log-level"}) {
+                           "--tls-key", "--record-dir", "--log-level"}) {
     EXPECT_NE(help.out.find(flag), std::string::npos) << flag;
   }
   const auto version = run({"--version"});
@@ -45,7 +45,7 @@ TEST_F(WebCommandLine, BadUsageExits2WithOneLine) {
   for (const std::vector<std::string>& arguments :
        {std::vector<std::string>{"--bogus"}, {"--listen", "nowhere"}, {"--listen", "127.0.0.1:99999"},
         {"--log-level", "loud"}, {"--allow-origin", "app.foxglove.dev"}, {"--token-file", "/nonexistent/token"},
-        {"--config", "/nonexistent/web.json"}}) {
+        {"--config", "/nonexistent/web.json"}, {"--record-dir", "records"}}) {
     const auto done = run(arguments);
     EXPECT_TRUE(done.status.exited_with(2)) << arguments[0] << ": " << done.describe();
     EXPECT_EQ(one_line(done.err), 1) << done.err;

@@ -13,13 +13,14 @@ TEST(WebConfig, DefaultsAreValid) {
   EXPECT_EQ(config.listen.port, 8080);
   EXPECT_FALSE(config.token_file);
   EXPECT_FALSE(config.trust_localhost);  // an explicit opt-in
+  EXPECT_EQ(config.record_dir, "/var/lib/wheeltec-record");  // wheeltec-record's StateDirectory
 }
 
 TEST(WebConfig, AppliesEveryKey) {
   WebConfig config;
   apply_web_config(nlohmann::json::parse(R"({"socket":"/s","listen":"0.0.0.0:9000","token_file":"/t",
       "allow_origins":["https://app.foxglove.dev"],"trust_localhost":true,"max_clients":4,"queue_limit":8,"stall_timeout_s":2,
-      "low_battery_v":21.0,"page_dir":"/p","javascript_dir":"/j","log":{"level":"debug"}})"),
+      "low_battery_v":21.0,"page_dir":"/p","javascript_dir":"/j","record_dir":"/r","log":{"level":"debug"}})"),
                    config);
   EXPECT_NO_THROW(validate_web_config(config));
   EXPECT_EQ(config.socket, "/s");
@@ -30,6 +31,7 @@ TEST(WebConfig, AppliesEveryKey) {
   EXPECT_EQ(config.max_clients, 4);
   EXPECT_EQ(config.queue_limit, 8);
   EXPECT_DOUBLE_EQ(config.low_battery_v, 21.0);
+  EXPECT_EQ(config.record_dir, "/r");
   EXPECT_EQ(config.log.level, "debug");
 }
 
@@ -59,6 +61,9 @@ TEST(WebConfig, NamesTheKeyOfAnError) {
   EXPECT_EQ(key_of_error(R"({"tls":{"cert":"/c","key":"/k","ca":"/a"}})"), "tls.ca");
   EXPECT_EQ(key_of_error(R"({"tls":{"cert":1,"key":"/k"}})"), "tls.cert");
   EXPECT_EQ(key_of_error(R"({"tls":"/c"})"), "tls");
+  EXPECT_EQ(key_of_error(R"({"record_dir":"records"})"), "record_dir");  // relative
+  EXPECT_EQ(key_of_error(R"({"record_dir":""})"), "record_dir");
+  EXPECT_EQ(key_of_error(R"({"record_dir":null})"), "record_dir");
 }
 
 TEST(WebConfig, TlsTakesACertificateAndItsKeyTogether) {

@@ -82,5 +82,15 @@ TEST_F(WebOptions, FlagsOverrideTheFileAndAreCheckedAsItIs) {
   EXPECT_EQ(error_of(long_socket).rfind("command line: socket: must be shorter than 108 bytes", 0), 0u);
 }
 
+TEST_F(WebOptions, TheRecordDirectoryComesFromTheFileOrTheFlagAndIsAbsolute) {
+  Options options;
+  options.config_file = config_file(R"({"record_dir": "/srv/records"})");
+  EXPECT_EQ(load_config(options).record_dir, "/srv/records");
+  options.record_dir = "/tmp/records";
+  EXPECT_EQ(load_config(options).record_dir, "/tmp/records");
+  options.record_dir = "records";
+  EXPECT_EQ(error_of(options), "command line: record_dir: must be an absolute path, got \"records\"");
+}
+
 }  // namespace
 }  // namespace wheeltec::web

@@ -1,6 +1,6 @@
 // wheeltec-web's page: a Foxglove WebSocket protocol client (the same protocol and server
 // code path as Foxglove itself) for the plots, the status and the joystick; plain HTTP for
-// STOP and the daemon's counters. docs/web.md describes it.
+// STOP, the daemon's counters and the recorder's files. docs/web.md describes it.
 'use strict';
 
 const WINDOW_S = 30;            // plotted history
@@ -261,9 +261,40 @@ async function pollStats() {
   $('dropped').textContent = droppedHere ? 'yes (this page is too slow)' : '0';
 }
 
+// --- the black box's files (wheeltec-record), newest first, each a download ---
+const RECORDS_PERIOD_MS = 10000;
+function sizeText(bytes) {
+  if (bytes < 1024) return `${bytes} B`;
+  return bytes < 1048576 ? `${Math.round(bytes / 1024)} kB` : `${(bytes / 1048576).toFixed(1)} MB`;
+}
+function tableRow(...cells) {  // each cell a text or an element
+  const row = document.createElement('tr');
+  for (const content of cells) { const cell = row.insertCell(); cell.append(content); }
+  return row;
+}
+async function pollRecords() {
+  const table = $('records');
+  try {
+    const response = await fetch('/api/records');
+    if (!response.ok) { table.replaceChildren(tableRow(await response.text())); return; }
+    const list = (await response.json()).records;
+    if (!list.length) { table.replaceChildren(tableRow('none')); return; }
+    table.replaceChildren(...list.map((r) => {
+      const link = document.createElement('a');
+      link.href = `/api/records/${encodeURIComponent(r.name)}`;
+      link.download = r.name;
+      link.title = r.name;
+      link.textContent = new Date(r.time * 1000).toLocaleString();
+      return tableRow(link, r.trigger, sizeText(r.bytes));
+    }));
+  } catch (error) { /* shown by the connection state */ }
+}
+
 makeGraphs();
 setupJoystick();
 $('stop').addEventListener('click', stop);
 connect();
 pollStats();
 setInterval(pollStats, 2000);
+pollRecords();
+setInterval(pollRecords, RECORDS_PERIOD_MS);

@@ -47,6 +47,13 @@ struct RecordOutcome {
   CommandResponse response = CommandResponse::idle;
 };
 
+// Control released by the deadman: its owner stopped driving, or left.
+struct ControlLapse {
+  ClientId owner = 0;
+  MonotonicNanos last_drive{};  // the owner's last accepted drive
+  bool moving = false;          // the command was not zero until then
+};
+
 struct SupervisorSettings {
   std::chrono::nanoseconds command_timeout = std::chrono::milliseconds(500);
   std::chrono::nanoseconds telemetry_timeout = std::chrono::milliseconds(500);
@@ -69,8 +76,8 @@ class ChassisSupervisor {
   bool enable();               // true if control was disabled until now
   bool disable();              // true if control was enabled until now; target zero, no owner
   void stop();                 // target zero, no owner (always sent)
-  bool client_gone(ClientId client);     // true if it held control
-  bool expire_deadman(MonotonicNanos now);  // true if the owner's deadline passed
+  std::optional<ControlLapse> client_gone(ClientId client);        // set if it held control
+  std::optional<ControlLapse> expire_deadman(MonotonicNanos now);  // set if the owner's deadline passed
   void shut_down();
   DriveDecision drive(ClientId client, const Velocity& target, MonotonicNanos now);
 
@@ -96,6 +103,8 @@ class ChassisSupervisor {
  private:
   // Quantizes the arbiter's target; true if the frame changed.
   bool update_command();
+  // The owner's control as it would lapse now; empty without an owner.
+  std::optional<ControlLapse> lapse() const;
 
   SupervisorSettings settings_;
   ControlMode mode_ = ControlMode::not_started;

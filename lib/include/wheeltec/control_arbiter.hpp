@@ -36,12 +36,15 @@ class ControlArbiter {
   const Velocity& target() const { return target_; }
   // When the owner loses control unless it drives again; empty without an owner.
   std::optional<MonotonicNanos> deadline() const { return deadline_; }
+  // The owner's last accepted drive; empty without an owner.
+  std::optional<MonotonicNanos> last_drive() const { return last_drive_; }
 
  private:
   std::chrono::nanoseconds timeout_;
   std::optional<ClientId> owner_;
   Velocity target_;
   std::optional<MonotonicNanos> deadline_;
+  std::optional<MonotonicNanos> last_drive_;
 };
 
 }  // namespace wheeltec

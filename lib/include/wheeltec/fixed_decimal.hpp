@@ -144,6 +144,23 @@ template <int Decimals, NegativeZero kNegativeZero>
 
 }  // namespace fixed_decimal_detail
 
+// The most characters write_seconds_from_nanos() writes: sign, 10 digits, point, 6 decimals.
+inline constexpr std::size_t kMaxSecondsFromNanosChars = 18;
+
+// Writes `nanoseconds` as seconds with 6 decimals, the microseconds cut from the integer
+// count (no rounding through a double: a kernel timestamp's microseconds stay as they are),
+// at `out`; returns their end.
+inline char* write_seconds_from_nanos(char* out, std::int64_t nanoseconds) {
+  if (nanoseconds < 0) *out++ = '-';
+  const std::uint64_t ns =
+      nanoseconds < 0 ? 0 - static_cast<std::uint64_t>(nanoseconds) : static_cast<std::uint64_t>(nanoseconds);
+  out = std::to_chars(out, out + 10, ns / 1'000'000'000).ptr;  // below 2^63 / 10^9: 10 digits
+  *out++ = '.';
+  out += 6;
+  fixed_decimal_detail::write_digits_backwards<6>(out, ns % 1'000'000'000 / 1'000);
+  return out;
+}
+
 // The same with the number of decimals fixed at compile time (0 to kMaxFastDecimals),
 // where the scaling's division costs a multiplication and the digits' loops unroll.
 template <int Decimals>

@@ -14,7 +14,8 @@ using SharedText = std::shared_ptr<const std::string>;
 // the bytes queued, the write in flight included:
 //  - above soft_bytes the client lags: a new telemetry message replaces its newest pending
 //    telemetry message that no write has taken yet, instead of being queued (the caller
-//    counts each replacement as a dropped notification);
+//    counts each replacement as a dropped notification), and a new event is not queued
+//    (events are never coalesced: the caller counts it as a dropped event);
 //  - a message that would take the backlog past hard_bytes is not queued: the client is
 //    to be disconnected.
 class OutboundQueue {
@@ -23,9 +24,10 @@ class OutboundQueue {
     std::size_t soft_bytes = 64 * 1024;
     std::size_t hard_bytes = 256 * 1024;
   };
-  enum class Kind { reply, telemetry };  // a reply is never replaced
+  enum class Kind { reply, telemetry, event };  // a reply is never replaced or dropped
   struct Admission {
     bool replaced_telemetry = false;  // a pending telemetry message was dropped for this one
+    bool dropped_event = false;       // this event was not queued: the client lags
     bool over_hard_limit = false;     // the backlog is full: disconnect the client
   };
 

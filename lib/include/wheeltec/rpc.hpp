@@ -51,8 +51,17 @@ std::optional<Error> expect_no_params(const Request& request);
 
 inline constexpr std::string_view kTopicTelemetry = "telemetry";
 inline constexpr std::string_view kTopicStatus = "status";
+inline constexpr std::string_view kTopicEvents = "events";  // protocol 4
 
 // subscribe/unsubscribe params {"topics": [...]} with known topic names; -32602 otherwise.
 std::variant<std::vector<std::string>, Error> parse_topics(const Request& request);
+
+// A mark's text may have at most this many characters (Unicode code points, not bytes).
+inline constexpr std::size_t kMaxMarkCharacters = 200;
+
+// mark params {"text": "..."}: the text (a view into request.params). -32602 for params
+// that are not an object, an unknown param, a missing text, one that is not a string or
+// one longer than kMaxMarkCharacters.
+std::variant<std::string_view, Error> parse_mark_params(const Request& request);
 
 }  // namespace wheeltec::rpc

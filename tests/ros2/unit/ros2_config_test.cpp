@@ -1,5 +1,7 @@
 #include "ros2_config.hpp"
 
+#include "config_text.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -7,21 +9,10 @@ namespace wheeltec::ros2 {
 namespace {
 
 Ros2Config parsed(const std::string& text) {
-  Ros2Config config;
-  apply_ros2_config(parse_config_document(text), config);
-  validate_ros2_config(config);
-  return config;
+  return test::config_from_text<Ros2Config>(text, apply_ros2_config, validate_ros2_config);
 }
 
-// The key a ConfigError names, or "" when the text is accepted.
-std::string refused_key(const std::string& text) {
-  try {
-    parsed(text);
-  } catch (const ConfigError& error) {
-    return error.key();
-  }
-  return "";
-}
+std::string refused_key(const std::string& text) { return test::refused_key_of(parsed, text); }
 
 TEST(Ros2Config, DefaultsAreTheSpecs) {
   const Ros2Config config = parsed("{}");

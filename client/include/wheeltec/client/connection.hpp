@@ -39,6 +39,9 @@ class Connection {
   // not parsed into a tree: for programs that forward it. Valid during the call only.
   using TelemetryTextHandler = std::function<void(std::string_view record)>;
   using StatusHandler = std::function<void(const Status&)>;
+  // An EVENT of the `events` topic (protocol 4): an object with `time`, `event`, `client`
+  // and the kind's own members (docs/api.md, "Events"), in the daemon's key order.
+  using EventHandler = std::function<void(const Json& event)>;
   using CloseHandler = std::function<void(boost::system::error_code)>;
 
   explicit Connection(boost::asio::any_io_executor executor);
@@ -48,13 +51,14 @@ class Connection {
 
   void async_connect(const std::string& socket_path, ConnectHandler handler);
   void async_call(const std::string& method, Json params, CallHandler handler);
-  // Subscribes to the topics that have a handler set ("telemetry", "status").
+  // Subscribes to the topics that have a handler set ("telemetry", "status", "events").
   void async_subscribe(CallHandler handler);
 
   void on_telemetry(TelemetryHandler handler);
   // May be set with on_telemetry or instead of it; the text comes first.
   void on_telemetry_text(TelemetryTextHandler handler);
   void on_status(StatusHandler handler);
+  void on_event(EventHandler handler);
   // The daemon closed the connection or it failed; pending calls got the same error.
   void on_close(CloseHandler handler);
 

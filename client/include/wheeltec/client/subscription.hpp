@@ -43,6 +43,7 @@ class Subscription {
   void on_telemetry_text(Connection::TelemetryTextHandler handler);  // Connection::on_telemetry_text
   // Every status notification, and the status read after each subscription.
   void on_status(Connection::StatusHandler handler);
+  void on_event(Connection::EventHandler handler);  // Connection::on_event
   void on_up(UpHandler handler);      // subscribed, the first time or again
   void on_down(DownHandler handler);  // after every loss and every failed attempt
 

@@ -1,0 +1,284 @@
+// wheeltec-record end to end (spec section 10): a real wheeltecd on the serial suites' fake
+// controller, the recorder as its own process, and every file it writes read back twice:
+// by npm's @mcap/core readers (read_mcap.cjs: CRCs, the stream and the indexed reader)
+// and by the MCAP writer tests' own reader, for the messages themselves.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "child_process.hpp"
+#include "mcap_checker.hpp"
+#include "serial_daemon.hpp"
+
+namespace record_tests {
+namespace {
+
+namespace fs = std::filesystem;
+using integration::ChildProcess;
+using integration::Json;
+using serial_tests::SerialDaemon;
+using namespace std::chrono_literals;
+
+// The channel ids of the recorder's registry, in the spec's order.
+enum ChannelId : std::uint16_t { kTelemetry = 1, kStatus, kEvents, kOdom, kTf };
+
+class Recorder : public serial_tests::SerialTest {
+ protected:
+  void SetUp() override {
+    SerialTest::SetUp();
+    records_ = directory_->path() / "records";
+    empty_config_ = *directory_ / "wheeltec-record.json";
+    std::ofstream(empty_config_) << "{}\n";
+    fake_->start_telemetry();
+  }
+
+  // The recorder on the daemon's socket, writing to records_.
+  ChildProcess& start_recorder(const SerialDaemon& daemon, std::vector<std::string> arguments = {}) {
+    std::vector<std::string> all{"--config", empty_config_.string(), "--socket", daemon.socket_path().string(),
+                                 "--dir", records_.string(), "--log-level", "debug"};
+    all.insert(all.end(), arguments.begin(), arguments.end());
+    recorder_ = std::make_unique<ChildProcess>("wheeltec-record", WHEELTEC_RECORD_PATH, all, directory_->path());
+    return *recorder_;
+  }
+
+  // Waits until the recorder's connection shows in the daemon's client count.
+  void wait_recording(const SerialDaemon& daemon, int clients) {
+    auto client = daemon.connect();
+    const auto deadline = std::chrono::steady_clock::now() + 5s;
+    while (client.call("stats")["clients"].get<int>() < clients + 2) {  // this one and the recorder
+      ASSERT_LT(std::chrono::steady_clock::now(), deadline) << logs() << recorder_->output_report();
+      std::this_thread::sleep_for(20ms);
+    }
+  }
+
+  // A recorder a second into an incident of a minute: its file is still a .part.
+  ChildProcess& recorder_in_a_long_incident() {
+    SerialDaemon& daemon = start_daemon_ready();
+    ChildProcess& recorder = start_recorder(daemon, {"--before", "2", "--after", "60"});
+    wait_recording(daemon, 0);
+    std::this_thread::sleep_for(2s);
+    daemon.connect().call("mark", {{"text", "a long one"}});
+    std::this_thread::sleep_for(1s);
+    EXPECT_TRUE(names_ending(".mcap").empty());
+    EXPECT_EQ(names_ending(".mcap.part").size(), 1u);
+    return recorder;
+  }
+
+  std::vector<std::string> names_ending(const std::string& suffix) const {
+    std::vector<std::string> names;
+    if (!fs::exists(records_)) return names;
+    for (const auto& entry : fs::directory_iterator(records_)) {
+      const std::string name = entry.path().filename().string();
+      if (name.ends_with(suffix)) names.push_back(name);
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  std::vector<std::string> wait_for_files(const std::string& suffix, std::size_t count,
+                                          std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (names_ending(suffix).size() < count && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(50ms);
+    }
+    return names_ending(suffix);
+  }
+
+  // The file read by both of npm's readers (read_mcap.cjs) and by the test reader; their
+  // per-channel counts must agree.
+  mcap_test::ReadFile read_back(const std::string& name) {
+    const fs::path path = records_ / name;
+    const auto node = integration::run_program("/usr/bin/node", {READ_MCAP_SCRIPT, path.string(), "--require-crcs"},
+                                               directory_->path(), 60s, {{"NODE_PATH", MCAP_NODE_MODULES}});
+    EXPECT_TRUE(node.status.exited_with(0)) << name << "\n" << node.describe();
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const mcap_test::ReadFile file = mcap_test::check_mcap(
+        mcap_test::ByteView(reinterpret_cast<const std::byte*>(bytes.data()), bytes.size()));
+    if (node.status.exited_with(0)) {
+      const Json summary = Json::parse(node.out);
+      for (const auto& [id, topic] : file.channel_topics) {
+        const auto counts = file.message_counts();
+        const std::uint64_t count = counts.contains(id) ? counts.at(id) : 0;
+        EXPECT_EQ(summary["channels"].value(topic, std::uint64_t{0}), count) << name << " " << topic;
+      }
+    }
+    return file;
+  }
+
+  static std::vector<const mcap_test::ReadMessage*> on(const mcap_test::ReadFile& file, ChannelId channel) {
+    std::vector<const mcap_test::ReadMessage*> messages;
+    for (const auto& message : file.messages) {
+      if (message.channel_id == channel) messages.push_back(&message);
+    }
+    return messages;
+  }
+
+  static double seconds(std::uint64_t log_time) { return static_cast<double>(log_time) / 1e9; }
+
+  static Json triggers_of(const mcap_test::ReadFile& file) {
+    for (const auto& [name, map] : file.metadata) {
+      if (name == "wheeltec") return Json::parse(map.at("triggers"));
+    }
+    ADD_FAILURE() << "no wheeltec metadata";
+    return Json();
+  }
+
+  fs::path records_;
+  fs::path empty_config_;
+  std::unique_ptr<ChildProcess> recorder_;
+};
+
+TEST_F(Recorder, AMarkWritesOneFileWithTheSecondsBeforeAndAfter) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recorder(daemon, {"--before", "3", "--after", "1"});
+  wait_recording(daemon, 0);
+  std::this_thread::sleep_for(4s);
+  auto client = daemon.connect();
+  const double marked = serial_tests::wall_seconds_now();
+  client.call("mark", {{"text", "bumped the door"}});
+
+  const auto files = wait_for_files("-mark.mcap", 1, 5s);
+  ASSERT_EQ(files.size(), 1u) << recorder_->output_report();
+  EXPECT_TRUE(names_ending(".part").empty());
+  const mcap_test::ReadFile file = read_back(files[0]);
+  EXPECT_EQ(file.library.rfind("wheeltec-record ", 0), 0u) << file.library;
+  const auto telemetry = on(file, kTelemetry);
+  ASSERT_GE(telemetry.size(), 60u);  // 4 s at the fake controller's 20 Hz, at the least
+  EXPECT_LE(seconds(telemetry.front()->log_time), marked - 3.0 + 0.1);
+  EXPECT_GE(seconds(telemetry.back()->log_time), marked + 1.0 - 0.1);
+  EXPECT_EQ(on(file, kOdom).size(), telemetry.size());
+  EXPECT_EQ(on(file, kTf).size(), telemetry.size());
+  ASSERT_FALSE(on(file, kStatus).empty());
+  EXPECT_EQ(Json::parse(on(file, kStatus).front()->payload)["chassis"]["phase"], "ready");
+  bool mark_seen = false;
+  for (const auto* event : on(file, kEvents)) {
+    const Json parsed = Json::parse(event->payload);
+    if (parsed["event"] == "mark") mark_seen = parsed["text"] == "bumped the door";
+  }
+  EXPECT_TRUE(mark_seen);
+  const Json triggers = triggers_of(file);
+  ASSERT_EQ(triggers.size(), 1u) << triggers.dump();
+  EXPECT_EQ(triggers[0]["trigger"], "mark");
+  // The record's own JSON, as the daemon sent it, and its pose in Foxglove's shape.
+  const Json record = Json::parse(telemetry.back()->payload);
+  EXPECT_TRUE(record.contains("seq") && record.contains("odom")) << record.dump();
+  const Json pose = Json::parse(on(file, kOdom).back()->payload);
+  EXPECT_EQ(pose["frame_id"], "odom");
+  EXPECT_DOUBLE_EQ(pose["pose"]["position"]["x"].get<double>(), record["odom"]["x"].get<double>());
+}
+
+TEST_F(Recorder, ASecondTriggerInsideTheWindowExtendsTheFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recorder(daemon, {"--before", "2", "--after", "1.5"});
+  wait_recording(daemon, 0);
+  std::this_thread::sleep_for(2s);
+  auto client = daemon.connect();
+  client.call("mark", {{"text", "one"}});
+  std::this_thread::sleep_for(1s);
+  const double second = serial_tests::wall_seconds_now();
+  client.call("mark", {{"text", "two"}});
+  std::this_thread::sleep_for(3s);
+
+  const auto files = names_ending(".mcap");
+  ASSERT_EQ(files.size(), 1u) << recorder_->output_report();
+  const auto file = read_back(files[0]);
+  EXPECT_EQ(triggers_of(file).size(), 2u);
+  EXPECT_GE(seconds(on(file, kTelemetry).back()->log_time), second + 1.5 - 0.1);
+}
+
+TEST_F(Recorder, SigtermMidIncidentLeavesAWholeFile) {
+  ChildProcess& recorder = recorder_in_a_long_incident();
+  EXPECT_TRUE(recorder.terminate().exited_with(0)) << recorder.output_report();
+  const auto files = names_ending(".mcap");
+  ASSERT_EQ(files.size(), 1u);
+  EXPECT_TRUE(names_ending(".part").empty());
+  EXPECT_GE(on(read_back(files[0]), kTelemetry).size(), 40u);
+}
+
+TEST_F(Recorder, SigkillLeavesNoBrokenFileUnderAFinalName) {
+  ChildProcess& recorder = recorder_in_a_long_incident();
+  recorder.kill();
+  EXPECT_TRUE(names_ending(".mcap").empty());
+  EXPECT_EQ(names_ending(".mcap.part").size(), 1u);
+}
+
+TEST_F(Recorder, TheDaemonLostIsWrittenAtOnceAndTheRecorderComesBack) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recorder(daemon, {"--before", "2", "--after", "1"});
+  wait_recording(daemon, 0);
+  std::this_thread::sleep_for(2s);
+  daemon.process().kill();
+  const auto lost = wait_for_files("-daemon-lost.mcap", 1, 2s);
+  ASSERT_EQ(lost.size(), 1u) << recorder_->output_report();
+  EXPECT_GE(on(read_back(lost[0]), kTelemetry).size(), 20u);
+
+  // The same socket again: the recorder reconnects by itself and records what comes.
+  SerialDaemon& again = start_daemon_ready();
+  wait_recording(again, 0);
+  std::this_thread::sleep_for(2s);
+  again.connect().call("mark", {{"text", "back"}});
+  const auto marked = wait_for_files("-mark.mcap", 1, 5s);
+  ASSERT_EQ(marked.size(), 1u) << recorder_->output_report();
+  EXPECT_GE(on(read_back(marked[0]), kTelemetry).size(), 40u);
+}
+
+TEST_F(Recorder, ContinuousFilesMeetWithoutGapOrRepeat) {
+  SerialDaemon& daemon = start_daemon_ready();
+  ChildProcess& recorder = start_recorder(daemon, {"--continuous", "--split", "2", "--no-trigger", "mark"});
+  wait_recording(daemon, 0);
+  std::this_thread::sleep_for(7s);
+  EXPECT_TRUE(recorder.terminate().exited_with(0)) << recorder.output_report();
+
+  const auto files = names_ending("-continuous.mcap");
+  ASSERT_GE(files.size(), 3u);
+  std::vector<std::uint64_t> sequence;
+  for (const std::string& name : files) {
+    const mcap_test::ReadFile file = read_back(name);
+    for (const auto* message : on(file, kTelemetry)) {
+      sequence.push_back(Json::parse(message->payload)["seq"].get<std::uint64_t>());
+    }
+  }
+  ASSERT_GE(sequence.size(), 100u);
+  for (std::size_t i = 1; i < sequence.size(); ++i) {
+    ASSERT_EQ(sequence[i], sequence[i - 1] + 1) << "at " << i;  // the fake controller counts every record
+  }
+}
+
+TEST_F(Recorder, RetentionDeletesTheOldestFilesFirst) {
+  fs::create_directories(records_);
+  std::ofstream(records_ / "20250101T000000Z-mark.mcap") << std::string(600'000, 'x');
+  std::ofstream(records_ / "20250102T000000Z-mark.mcap") << std::string(600'000, 'x');
+  std::ofstream(records_ / "notes.txt") << std::string(2'000'000, 'x');
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recorder(daemon, {"--before", "2", "--after", "0.5", "--max-bytes", "1000000"});
+  wait_recording(daemon, 0);
+  // At start: 1.2 MB of its own files, over the limit: the oldest goes.
+  EXPECT_FALSE(fs::exists(records_ / "20250101T000000Z-mark.mcap"));
+  EXPECT_TRUE(fs::exists(records_ / "20250102T000000Z-mark.mcap"));
+  std::this_thread::sleep_for(2s);
+  daemon.connect().call("mark", {{"text", "one more"}});
+  const auto marked = wait_for_files(".mcap", 2, 5s);
+  std::uint64_t total = 0;
+  for (const std::string& name : names_ending(".mcap")) total += fs::file_size(records_ / name);
+  EXPECT_LE(total, 1'000'000u);
+  EXPECT_TRUE(fs::exists(records_ / "notes.txt"));
+}
+
+TEST_F(Recorder, ADirItCannotWriteIsExit2NamingIt) {
+  const auto completed = integration::run_program(
+      WHEELTEC_RECORD_PATH, {"--config", empty_config_.string(), "--dir", "/proc/wheeltec-record"}, directory_->path());
+  EXPECT_TRUE(completed.status.exited_with(2)) << completed.describe();
+  EXPECT_NE(completed.err.find("/proc/wheeltec-record"), std::string::npos) << completed.describe();
+}
+
+}  // namespace
+}  // namespace record_tests
