@@ -31,32 +31,29 @@ install(FILES packaging/wheeltecd.json DESTINATION ${WHEELTEC_CONFIG_DIR})
 # Man pages and changelog compressed as Debian wants them (gzip -n: reproducible).
 find_program(GZIP_PROGRAM gzip REQUIRED)
 set(WHEELTEC_COMPRESSED_FILES)
-foreach(page IN LISTS WHEELTEC_MAN_PAGES)
-  get_filename_component(name ${page} NAME)
-  string(REGEX REPLACE ".*\\.([0-9])$" "\\1" section ${name})
-  set(compressed ${PROJECT_BINARY_DIR}/man/${name}.gz)
-  add_custom_command(OUTPUT ${compressed}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/man
-    COMMAND ${GZIP_PROGRAM} -9nc ${PROJECT_SOURCE_DIR}/${page} > ${compressed}
-    DEPENDS ${PROJECT_SOURCE_DIR}/${page} VERBATIM)
-  list(APPEND WHEELTEC_COMPRESSED_FILES ${compressed})
-  install(FILES ${compressed} DESTINATION ${CMAKE_INSTALL_MANDIR}/man${section})
-endforeach()
-# changelog.gz is the package's (Debian format); CHANGELOG.md.gz the project's.
-set(WHEELTEC_CHANGELOGS)
-foreach(source IN ITEMS packaging/debian/changelog CHANGELOG.md)
+# wheeltec_gzip(SOURCE SUBDIR DESTINATION): SOURCE (relative to the source tree) as
+# BUILD/SUBDIR/NAME.gz, installed into DESTINATION.
+function(wheeltec_gzip source subdir destination)
   get_filename_component(name ${source} NAME)
-  set(compressed ${PROJECT_BINARY_DIR}/doc/${name}.gz)
+  set(compressed ${PROJECT_BINARY_DIR}/${subdir}/${name}.gz)
   add_custom_command(OUTPUT ${compressed}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/doc
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/${subdir}
     COMMAND ${GZIP_PROGRAM} -9nc ${PROJECT_SOURCE_DIR}/${source} > ${compressed}
     DEPENDS ${PROJECT_SOURCE_DIR}/${source} VERBATIM)
-  list(APPEND WHEELTEC_COMPRESSED_FILES ${compressed})
-  list(APPEND WHEELTEC_CHANGELOGS ${compressed})
+  set(WHEELTEC_COMPRESSED_FILES ${WHEELTEC_COMPRESSED_FILES} ${compressed} PARENT_SCOPE)
+  install(FILES ${compressed} DESTINATION ${destination})
+endfunction()
+foreach(page IN LISTS WHEELTEC_MAN_PAGES)
+  string(REGEX REPLACE ".*\\.([0-9])$" "\\1" section ${page})
+  wheeltec_gzip(${page} man ${CMAKE_INSTALL_MANDIR}/man${section})
+endforeach()
+# changelog.gz is the package's (Debian format); CHANGELOG.md.gz the project's.
+foreach(source IN ITEMS packaging/debian/changelog CHANGELOG.md)
+  wheeltec_gzip(${source} doc ${WHEELTEC_DOC_DIR})
 endforeach()
 add_custom_target(wheeltec_compressed_docs ALL DEPENDS ${WHEELTEC_COMPRESSED_FILES})
 
-install(FILES ${WHEELTEC_CHANGELOGS} packaging/debian/copyright README.md DESTINATION ${WHEELTEC_DOC_DIR})
+install(FILES packaging/debian/copyright README.md DESTINATION ${WHEELTEC_DOC_DIR})
 install(DIRECTORY docs/ DESTINATION ${WHEELTEC_DOC_DIR} FILES_MATCHING PATTERN "*.md")
 
 # Debian package.

@@ -30,6 +30,21 @@ TriggerSet trigger_set(const std::vector<std::string>& names) {
   return set;
 }
 
+// The program's own flags over the config file.
+void apply_flags(const Options& options, RecorderConfig& c) {
+  if (options.dir) c.dir = *options.dir;
+  if (options.before_s) c.before_s = *options.before_s;
+  if (options.after_s) c.after_s = *options.after_s;
+  if (options.max_bytes) c.max_bytes = *options.max_bytes;
+  if (options.continuous) c.continuous = true;
+  if (options.split_s) c.split_s = *options.split_s;
+  if (!options.triggers.empty() || !options.no_triggers.empty()) {
+    const TriggerSet set = apply_trigger_options(trigger_set(c.triggers), options.triggers, options.no_triggers);
+    c.triggers.clear();
+    for (const Trigger trigger : set.members()) c.triggers.emplace_back(trigger_name(trigger));
+  }
+}
+
 }  // namespace
 
 std::variant<Options, int> parse_command_line(int argc, char** argv) {
@@ -63,19 +78,8 @@ RecorderConfig load_config(const Options& options) {
   defaults.socket = client::socket_path_from_environment();  // as wheeltecctl finds it
   const service::ConfigLayers<RecorderConfig> layers{kDefaultConfigFile, service::ConfigSecrecy::open,
                                                      apply_recorder_config, validate_recorder_config};
-  RecorderConfig config = service::load_layered_config(std::move(defaults), options, layers, [&](RecorderConfig& c) {
-    if (options.dir) c.dir = *options.dir;
-    if (options.before_s) c.before_s = *options.before_s;
-    if (options.after_s) c.after_s = *options.after_s;
-    if (options.max_bytes) c.max_bytes = *options.max_bytes;
-    if (options.continuous) c.continuous = true;
-    if (options.split_s) c.split_s = *options.split_s;
-    if (!options.triggers.empty() || !options.no_triggers.empty()) {
-      const TriggerSet set = apply_trigger_options(trigger_set(c.triggers), options.triggers, options.no_triggers);
-      c.triggers.clear();
-      for (const Trigger trigger : set.members()) c.triggers.emplace_back(trigger_name(trigger));
-    }
-  });
+  RecorderConfig config = service::load_layered_config(std::move(defaults), options, layers,
+                                                       [&](RecorderConfig& c) { apply_flags(options, c); });
   prepare_directory(config.dir);
   return config;
 }

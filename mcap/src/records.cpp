@@ -18,33 +18,19 @@ std::size_t append_header(Bytes& out, std::string_view profile, std::string_view
 }
 
 std::size_t append_schema(Bytes& out, const Schema& schema) {
-  return RecordEncoder(out, Opcode::schema)
-      .u16(schema.id)
-      .string(schema.name)
-      .string(schema.encoding)
-      .bytes32(schema.data)
-      .finish();
+  return RecordEncoder(out, Opcode::schema).u16(schema.id).string(schema.name).string(schema.encoding)
+      .bytes32(schema.data).finish();
 }
 
 std::size_t append_channel(Bytes& out, const Channel& channel) {
-  return RecordEncoder(out, Opcode::channel)
-      .u16(channel.id)
-      .u16(channel.schema_id)
-      .string(channel.topic)
-      .string(channel.message_encoding)
-      .string_map(channel.metadata)
-      .finish();
+  return RecordEncoder(out, Opcode::channel).u16(channel.id).u16(channel.schema_id).string(channel.topic)
+      .string(channel.message_encoding).string_map(channel.metadata).finish();
 }
 
 std::size_t append_message(Bytes& out, std::uint16_t channel_id, std::uint32_t sequence, Timestamp log_time,
                            Timestamp publish_time, ByteView payload) {
-  return RecordEncoder(out, Opcode::message)
-      .u16(channel_id)
-      .u32(sequence)
-      .u64(log_time)
-      .u64(publish_time)
-      .raw(payload)
-      .finish();
+  return RecordEncoder(out, Opcode::message).u16(channel_id).u32(sequence).u64(log_time).u64(publish_time)
+      .raw(payload).finish();
 }
 
 std::size_t append_chunk_head(Bytes& out, const Chunk& chunk) {

@@ -61,6 +61,19 @@ wait_for() {
   done
 }
 
+# check_exposure UNIT: `systemd-analyze security` rates the unit 2.0 or less.
+check_exposure() {
+  local exposure
+  exposure=$(systemd-analyze security --no-pager "$1.service" 2>&1 |
+    sed -n "s/.*Overall exposure level for $1.service: \([0-9.]*\).*/\1/p")
+  figure "systemd-analyze security $1.service: ${exposure:-none}"
+  check "its exposure (${exposure:-none}) is 2.0 or less" at_most "${exposure:-99}" 2.0
+}
+# journal_tail UNIT: the unit's last 30 journal lines, for a failure report.
+journal_tail() {
+  echo "---- journal of $1 (last 30 lines)"
+  journalctl -u "$1" --no-pager -n 30 -o short-precise 2>/dev/null
+}
 unit_failed() { [[ $(systemctl is-active "$1") == failed ]]; }  # UNIT
 # check_refused_to_start UNIT: the unit, just started, fails with exit status 2 and is not
 # restarted (its RestartPreventExitStatus=2).

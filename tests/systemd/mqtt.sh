@@ -21,8 +21,7 @@ subscriber_pid=
 cleanup() {
   for pid in $subscriber_pid $broker_pid $emulator_pid; do kill "$pid" 2>/dev/null; done
   if ((failures)); then
-    echo "---- journal of $BRIDGE (last 30 lines)"
-    journalctl -u "$BRIDGE" --no-pager -n 30 -o short-precise 2>/dev/null
+    journal_tail "$BRIDGE"
     echo "---- MQTT messages under $TOPICS (last 10)"
     tail -n 10 "$mqtt_log" | cut -c 1-200
   fi

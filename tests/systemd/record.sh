@@ -15,8 +15,7 @@ emulator_pid=
 cleanup() {
   kill "$emulator_pid" 2>/dev/null
   if ((failures)); then
-    echo "---- journal of $RECORDER (last 30 lines)"
-    journalctl -u "$RECORDER" --no-pager -n 30 -o short-precise 2>/dev/null
+    journal_tail "$RECORDER"
     ls -la "$RECORDS" 2>/dev/null
   fi
 }
@@ -28,10 +27,7 @@ recording() { journalctl -u "$RECORDER" -o cat --no-pager | grep -q 'recording f
 
 note "installed disabled, hardened"
 check "$RECORDER.service is installed disabled" test "$(systemctl is-enabled "$RECORDER")" = disabled
-exposure=$(systemd-analyze security --no-pager "$RECORDER.service" 2>&1 |
-  sed -n "s/.*Overall exposure level for $RECORDER.service: \([0-9.]*\).*/\1/p")
-figure "systemd-analyze security $RECORDER.service: ${exposure:-none}"
-check "its exposure ($exposure) is 2.0 or less" at_most "${exposure:-99}" 2.0
+check_exposure "$RECORDER"
 
 start_ready_chassis
 

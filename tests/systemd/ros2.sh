@@ -17,8 +17,7 @@ emulator_pid=
 cleanup() {
   [[ -n $emulator_pid ]] && kill "$emulator_pid" 2>/dev/null
   if ((failures)); then
-    echo "---- journal of $BRIDGE (last 30 lines)"
-    journalctl -u "$BRIDGE" --no-pager -n 30 -o short-precise 2>/dev/null
+    journal_tail "$BRIDGE"
     echo "---- systemctl status $BRIDGE"
     systemctl status --no-pager -n 0 "$BRIDGE" 2>/dev/null
   fi
@@ -57,10 +56,7 @@ has_udp_sockets() { (($(udp_sockets_of "$1") > 0)); }
 
 section "installed disabled, hardened"
 check "$BRIDGE.service is installed disabled" test "$(systemctl is-enabled "$BRIDGE")" = disabled
-exposure=$(systemd-analyze security --no-pager "$BRIDGE.service" 2>&1 |
-  sed -n "s/.*Overall exposure level for $BRIDGE.service: \([0-9.]*\).*/\1/p")
-figure "systemd-analyze security $BRIDGE.service: ${exposure:-none}"
-check "its exposure ($exposure) is 2.0 or less" at_most "${exposure:-99}" 2.0
+check_exposure "$BRIDGE"
 
 section "the daemon and the emulated chassis"
 start_ready_chassis

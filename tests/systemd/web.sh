@@ -20,8 +20,7 @@ emulator_pid=
 cleanup() {
   kill "$emulator_pid" 2>/dev/null
   if ((failures)); then
-    echo "---- journal of $VIEW (last 30 lines)"
-    journalctl -u "$VIEW" --no-pager -n 30 -o short-precise 2>/dev/null
+    journal_tail "$VIEW"
   fi
 }
 

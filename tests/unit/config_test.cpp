@@ -478,22 +478,10 @@ TEST(ConfigSerial, BadValuesNameTheKey) {
 }
 
 TEST(ConfigToJson, DefaultsInTheFileShape) {
+  // Every key with its default: ConfigDefaults.ShippedConfigFileHoldsEveryKeyWithItsDefault.
   const json j = config_to_json(GatewayConfig{});
-  const json expected = json::parse(R"({
-    "transport": "can",
-    "serial":    { "device": "/dev/wheeltec_controller", "baud": 115200 },
-    "can":       { "interface": "can0", "dialect": "manual", "bitrate": 1000000 },
-    "chassis":   { "type": "mecanum", "ackermann_z": "yaw_rate" },
-    "control":   { "rate_hz": 20, "command_timeout_s": 0.5, "auto_enable": true,
-                   "enable_refresh_s": 1.0, "disable_on_exit": true,
-                   "limits": { "vx": 1.0, "vy": 1.0, "wz": 3.0 } },
-    "telemetry": { "timeout_s": 0.5, "low_battery_v": 10.8 },
-    "api":       { "socket": "/run/wheeltecd/wheeltecd.sock", "mode": "0660",
-                   "group": null, "max_clients": 32,
-                   "control_users": [], "control_groups": [] },
-    "log":       { "level": "info" }
-  })");
-  EXPECT_EQ(j, expected) << j.dump(2);
+  EXPECT_EQ(j["transport"], "can");
+  EXPECT_EQ(j["can"]["dialect"], "manual");
   EXPECT_TRUE(j["api"]["group"].is_null());
   EXPECT_EQ(j["api"]["mode"], "0660");
 }

@@ -62,13 +62,20 @@ class Recorder : public serial_tests::SerialTest {
   // A recorder a second into an incident of a minute: its file is still a .part.
   ChildProcess& recorder_in_a_long_incident() {
     SerialDaemon& daemon = start_daemon_ready();
-    ChildProcess& recorder = start_recorder(daemon, {"--before", "2", "--after", "60"});
-    wait_recording(daemon, 0);
-    std::this_thread::sleep_for(2s);
+    ChildProcess& recorder = start_recording(daemon, {"--before", "2", "--after", "60"}, 2s);
     daemon.connect().call("mark", {{"text", "a long one"}});
     std::this_thread::sleep_for(1s);
     EXPECT_TRUE(names_ending(".mcap").empty());
     EXPECT_EQ(names_ending(".mcap.part").size(), 1u);
+    return recorder;
+  }
+
+  // The recorder, subscribed, after `warm_up` of recording: the ring holds that much.
+  ChildProcess& start_recording(const SerialDaemon& daemon, std::vector<std::string> arguments,
+                                std::chrono::seconds warm_up) {
+    ChildProcess& recorder = start_recorder(daemon, std::move(arguments));
+    wait_recording(daemon, 0);
+    std::this_thread::sleep_for(warm_up);
     return recorder;
   }
 
@@ -139,9 +146,7 @@ class Recorder : public serial_tests::SerialTest {
 
 TEST_F(Recorder, AMarkWritesOneFileWithTheSecondsBeforeAndAfter) {
   SerialDaemon& daemon = start_daemon_ready();
-  start_recorder(daemon, {"--before", "3", "--after", "1"});
-  wait_recording(daemon, 0);
-  std::this_thread::sleep_for(4s);
+  start_recording(daemon, {"--before", "3", "--after", "1"}, 4s);
   auto client = daemon.connect();
   const double marked = serial_tests::wall_seconds_now();
   client.call("mark", {{"text", "bumped the door"}});
@@ -178,9 +183,7 @@ TEST_F(Recorder, AMarkWritesOneFileWithTheSecondsBeforeAndAfter) {
 
 TEST_F(Recorder, ASecondTriggerInsideTheWindowExtendsTheFile) {
   SerialDaemon& daemon = start_daemon_ready();
-  start_recorder(daemon, {"--before", "2", "--after", "1.5"});
-  wait_recording(daemon, 0);
-  std::this_thread::sleep_for(2s);
+  start_recording(daemon, {"--before", "2", "--after", "1.5"}, 2s);
   auto client = daemon.connect();
   client.call("mark", {{"text", "one"}});
   std::this_thread::sleep_for(1s);
@@ -213,9 +216,7 @@ TEST_F(Recorder, SigkillLeavesNoBrokenFileUnderAFinalName) {
 
 TEST_F(Recorder, TheDaemonLostIsWrittenAtOnceAndTheRecorderComesBack) {
   SerialDaemon& daemon = start_daemon_ready();
-  start_recorder(daemon, {"--before", "2", "--after", "1"});
-  wait_recording(daemon, 0);
-  std::this_thread::sleep_for(2s);
+  start_recording(daemon, {"--before", "2", "--after", "1"}, 2s);
   daemon.process().kill();
   const auto lost = wait_for_files("-daemon-lost.mcap", 1, 2s);
   ASSERT_EQ(lost.size(), 1u) << recorder_->output_report();
@@ -233,9 +234,7 @@ TEST_F(Recorder, TheDaemonLostIsWrittenAtOnceAndTheRecorderComesBack) {
 
 TEST_F(Recorder, ContinuousFilesMeetWithoutGapOrRepeat) {
   SerialDaemon& daemon = start_daemon_ready();
-  ChildProcess& recorder = start_recorder(daemon, {"--continuous", "--split", "2", "--no-trigger", "mark"});
-  wait_recording(daemon, 0);
-  std::this_thread::sleep_for(7s);
+  ChildProcess& recorder = start_recording(daemon, {"--continuous", "--split", "2", "--no-trigger", "mark"}, 7s);
   EXPECT_TRUE(recorder.terminate().exited_with(0)) << recorder.output_report();
 
   const auto files = names_ending("-continuous.mcap");

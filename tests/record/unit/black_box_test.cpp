@@ -104,6 +104,11 @@ class Feed {
     return now_;
   }
   void status(const Json& status) { box_.on_status(status, now_); }
+  // The chassis ready, then `span` of records.
+  void ready_for(std::chrono::nanoseconds span) {
+    status(status_ready());
+    run_for(span);
+  }
   RealtimeNanos now() const { return now_; }
   int records() const { return seq_; }
 
@@ -112,6 +117,14 @@ class Feed {
   RealtimeNanos now_;
   int seq_ = 0;
   int steps_ = 0;
+};
+
+// A black box on a store in memory, and the feed that drives it.
+struct Rig {
+  explicit Rig(const BlackBoxSettings& settings) : box(settings, store), feed(box, kStart) {}
+  MemoryStore store;
+  BlackBox box;
+  Feed feed;
 };
 
 BlackBoxSettings settings(std::chrono::nanoseconds before, std::chrono::nanoseconds after) {
@@ -134,11 +147,9 @@ RealtimeNanos log_time_of(const mcap_test::ReadMessage& message) {
 }
 
 TEST(BlackBox, AMarkWritesOneFileFromBeforeTheTriggerToAfterIt) {
-  MemoryStore store;
-  BlackBox box(settings(10s, 2s), store);
-  Feed feed(box, kStart);
-  feed.status(status_ready());
-  feed.run_for(20s);
+  Rig rig(settings(10s, 2s));
+  auto& [store, box, feed] = rig;
+  feed.ready_for(20s);
   const RealtimeNanos marked = feed.event("mark");
   feed.run_for(5s);
 
@@ -166,11 +177,9 @@ TEST(BlackBox, AMarkWritesOneFileFromBeforeTheTriggerToAfterIt) {
 }
 
 TEST(BlackBox, ASecondTriggerInsideTheWindowExtendsTheSameFile) {
-  MemoryStore store;
-  BlackBox box(settings(5s, 2s), store);
-  Feed feed(box, kStart);
-  feed.status(status_ready());
-  feed.run_for(10s);
+  Rig rig(settings(5s, 2s));
+  auto& [store, box, feed] = rig;
+  feed.ready_for(10s);
   const RealtimeNanos first = feed.event("mark");
   feed.run_for(1500ms);
   const RealtimeNanos second = feed.event("deadman");
@@ -184,9 +193,8 @@ TEST(BlackBox, ASecondTriggerInsideTheWindowExtendsTheSameFile) {
 }
 
 TEST(BlackBox, ATriggerAfterTheWindowStartsASecondFile) {
-  MemoryStore store;
-  BlackBox box(settings(2s, 1s), store);
-  Feed feed(box, kStart);
+  Rig rig(settings(2s, 1s));
+  auto& [store, box, feed] = rig;
   feed.run_for(3s);
   feed.event("mark");
   feed.run_for(3s);
@@ -196,11 +204,9 @@ TEST(BlackBox, ATriggerAfterTheWindowStartsASecondFile) {
 }
 
 TEST(BlackBox, ALostDaemonIsWrittenAtOnce) {
-  MemoryStore store;
-  BlackBox box(settings(5s, 10s), store);
-  Feed feed(box, kStart);
-  feed.status(status_ready());
-  feed.run_for(8s);
+  Rig rig(settings(5s, 10s));
+  auto& [store, box, feed] = rig;
+  feed.ready_for(8s);
   box.on_daemon_lost(feed.now());
   ASSERT_EQ(store.whole_names(), std::vector<std::string>{file_name(feed.now(), Trigger::daemon_lost)});
   const auto file = mcap_test::check_mcap(store.files.begin()->second);
@@ -208,15 +214,14 @@ TEST(BlackBox, ALostDaemonIsWrittenAtOnce) {
 }
 
 TEST(BlackBox, FinishWritesTheFileInProgressWithWhatItHas) {
-  MemoryStore store;
-  BlackBox box(settings(5s, 10s), store);
-  Feed feed(box, kStart);
+  Rig rig(settings(5s, 10s));
+  auto& [store, box, feed] = rig;
   feed.run_for(6s);
   const RealtimeNanos marked = feed.event("mark");
   feed.run_for(2s);
   EXPECT_TRUE(store.whole_names().empty());
   box.finish(feed.now());
-  ASSERT_EQ(store.whole_names().size(), 1u);
+  ASSERT_EQ(store.whole_names(), std::vector<std::string>{file_name(marked, Trigger::mark)});
   const auto file = mcap_test::check_mcap(store.files.begin()->second);
   EXPECT_EQ(log_time_of(on_channel(file, Channel::telemetry).back()), feed.now());
 }
@@ -278,9 +283,8 @@ TEST(BlackBox, RetentionDeletesTheOldestFilesAndKeepsTheNewOne) {
 }
 
 TEST(BlackBox, AFileThatCannotBeWrittenIsDroppedAndTheNextOneIsWhole) {
-  MemoryStore store;
-  BlackBox box(settings(2s, 1s), store);
-  Feed feed(box, kStart);
+  Rig rig(settings(2s, 1s));
+  auto& [store, box, feed] = rig;
   feed.run_for(3s);
   store.full = true;
   feed.event("mark");
@@ -294,9 +298,8 @@ TEST(BlackBox, AFileThatCannotBeWrittenIsDroppedAndTheNextOneIsWhole) {
 }
 
 TEST(BlackBox, TheRingKeepsOnlyTheLastSeconds) {
-  MemoryStore store;
-  BlackBox box(settings(5s, 1s), store);
-  Feed feed(box, kStart);
+  Rig rig(settings(5s, 1s));
+  auto& [store, box, feed] = rig;
   feed.run_for(60s);
   EXPECT_LE(box.ring_chunks(), 7u);  // 5 s of one-second chunks, and the ones at its edges
   EXPECT_GT(box.ring_bytes(), 0u);
