@@ -4,7 +4,9 @@
 #include <fcntl.h>
 #include <poll.h>
 
+#include <atomic>
 #include <cstring>
+#include <thread>
 #include <fstream>
 #include <iostream>
 
@@ -76,6 +78,17 @@ int run(const Options& s) {
   const LatencySummary command =
       summarize(command_latency(socket, s.commands, 100, [&](int mm_per_s) { return line.await_command(mm_per_s, 1000); }).total);
   out["wheeltecd"]["command_latency"] = command.to_json();
+  // The same drives with a client subscribed to events, which gets one a drive and reads it in a thread.
+  LineClient events(socket);
+  events.send_line(R"({"jsonrpc":"2.0","id":1,"method":"subscribe","params":{"topics":["events"]}})");
+  events.read_line(5000);
+  std::atomic<bool> measuring{true};
+  std::thread reader([&] { while (measuring) if (events.receive(50)) events.drain_lines(); });
+  const LatencySummary with_events =
+      summarize(command_latency(socket, s.commands, 100, [&](int mm_per_s) { return line.await_command(mm_per_s, 1000); }).total);
+  measuring = false;
+  reader.join();
+  out["wheeltecd"]["command_latency_events_subscriber"] = with_events.to_json();
   std::cerr << "bench: wheeltecd on " << line.slave_path() << ": record -> notification\n";
   const TelemetryLatency telemetry = telemetry_latency(socket, 1, s.records, [&](int n) {
     const wheeltec::RecordBytes bytes = wheeltec::encode_record(bench_record(n));
@@ -92,6 +105,7 @@ int run(const Options& s) {
                   "|---|---|---|\n";
   t += fmt::format("| drive -> command frame read on the master, n={} | {} | 11 bytes slave -> master: {} |\n", command.count,
                    pair(command), pair(floor_out));
+  t += fmt::format("| the same, a client subscribed to events, n={} | {} | |\n", with_events.count, pair(with_events));
   t += fmt::format("| record's last byte -> notification, 1 subscriber, n={} (lost {}) | {} | 24 bytes master -> slave: {} |\n",
                    telemetry.all.count, telemetry.lost, pair(telemetry.all), pair(floor_in));
   return publish_table(t, out, s.json_path);

@@ -1,6 +1,5 @@
-// wheeltec-bench-record: the black box's costs (issue #35.7), in process, records at a chosen rate in
-// simulated time: processor time per record and resident memory with a full ring, the bytes a minute
-// of recording takes, the time to write a full ring to a file (`daemon-lost`: at once). One JSON object.
+// wheeltec-bench-record: the black box in process, records at a chosen rate in simulated time: CPU per record,
+// RSS with a full ring, bytes a minute, the time to write a full ring (`daemon-lost`). One JSON object.
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -19,19 +18,6 @@ namespace {
 using namespace std::chrono_literals;
 using wheeltec::RealtimeNanos;
 using namespace wheeltec::record;
-
-struct CountingStore : FileStore {  // keeps nothing, counts the bytes
-  struct Counted : FileOutput {
-    explicit Counted(std::uint64_t& total) : total(total) {}
-    void write(wheeltec::mcap::ByteView data) override { total += data.size(); }
-    void commit() override {}
-    std::uint64_t& total;
-  };
-  std::unique_ptr<FileOutput> create(const std::string&) override { return std::make_unique<Counted>(bytes); }
-  std::vector<StoredFile> list() const override { return {}; }
-  void remove(const std::string&) override {}
-  std::uint64_t bytes = 0;
-};
 
 double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }  // CLOCK_PROCESS_CPUTIME_ID
 double rss_mib() {
@@ -81,11 +67,10 @@ RealtimeNanos feed(BlackBox& box, RecordSource& source, RealtimeNanos start, std
 
 int main(int argc, char** argv) {
   double rate = 20.0, before_s = 60.0;
-  std::string dir = std::filesystem::temp_directory_path() / "wheeltec-bench-record";
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "wheeltec-bench-record";
   CLI::App app{"wheeltec-bench-record: the black box's processor time, memory and file sizes"};
   app.add_option("--rate", rate, "Telemetry records a second")->check(CLI::Range(1.0, 2000.0));
   app.add_option("--before", before_s, "The ring, in seconds")->check(CLI::Range(1.0, 3600.0));
-  app.add_option("--dir", dir, "Where the incident file is written");
   CLI11_PARSE(app, argc, argv);
   spdlog::set_level(spdlog::level::warn);  // stdout is the figures'
   RecordSource source;
@@ -93,35 +78,37 @@ int main(int argc, char** argv) {
   // A full ring, then as long again: what the recorder costs while nothing happens.
   std::filesystem::create_directories(dir);
   DirectoryStore directory(dir);
-  BlackBoxSettings settings;
-  settings.before = std::chrono::nanoseconds(static_cast<std::int64_t>(before_s * 1e9));
-  BlackBox box(settings, directory);
-  const double rss_before = rss_mib();
-  RealtimeNanos now = feed(box, source, RealtimeNanos(std::chrono::seconds(1795552460)), settings.before, rate);
+  const auto before = std::chrono::nanoseconds(static_cast<std::int64_t>(before_s * 1e9));
+  BlackBox box(BlackBoxSettings{.before = before, .continuous_split = {}}, directory);
+  RealtimeNanos now = feed(box, source, RealtimeNanos(std::chrono::seconds(1795552460)), before, rate);
   const double cpu_start = cpu_seconds();
-  now = feed(box, source, now, settings.before, rate);
+  now = feed(box, source, now, before, rate);
   const double cpu_per_record_us = (cpu_seconds() - cpu_start) / (before_s * rate) * 1e6;
   const double rss_full = rss_mib();
 
   // The whole ring to a file at once.
   const auto write_start = std::chrono::steady_clock::now();
   box.on_daemon_lost(now);
-  const double write_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - write_start).count();
-  std::uint64_t incident_bytes = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    if (entry.path().extension() == ".mcap") incident_bytes += entry.file_size();
-    std::filesystem::remove(entry.path());
-  }
-
+  const std::chrono::duration<double, std::milli> write_ms = std::chrono::steady_clock::now() - write_start;
+  const auto take_files = [&] {  // their bytes, then they go
+    std::uint64_t bytes = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      bytes += entry.file_size();
+      std::filesystem::remove(entry.path());
+    }
+    return bytes;
+  };
+  const std::uint64_t incident_bytes = take_files();
   // Five minutes of continuous files: bytes a minute.
-  CountingStore counting;
-  BlackBox recorder(BlackBoxSettings{.before = 10s, .continuous_split = 60s}, counting);
+  BlackBox recorder(BlackBoxSettings{.before = 10s, .continuous_split = 60s, .library = "wheeltec-record"}, directory);
   recorder.finish(feed(recorder, source, now, 5min, rate));
+  const std::uint64_t minute_bytes = take_files() / 5;
 
   const nlohmann::ordered_json figures{
       {"rate_hz", rate}, {"before_s", before_s}, {"cpu_us_per_record", rounded(cpu_per_record_us, 100)},
       {"ring_mib", rounded(box.ring_bytes() / 1048576.0, 100)}, {"rss_mib_full_ring", rounded(rss_full, 10)},
-      {"rss_mib_growth", rounded(rss_full - rss_before, 10)}, {"full_ring_file_bytes", incident_bytes},
-      {"full_ring_write_ms", rounded(write_ms, 10)}, {"bytes_per_minute", counting.bytes / 5}};
+      {"full_ring_file_bytes", incident_bytes},
+      {"full_ring_write_ms", rounded(write_ms.count(), 10)}, {"bytes_per_minute", minute_bytes}};
   std::cout << figures.dump() << "\n";
+  std::filesystem::remove_all(dir);
 }
