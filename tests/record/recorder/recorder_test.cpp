@@ -17,6 +17,8 @@
 #include "child_process.hpp"
 #include "mcap_checker.hpp"
 #include "serial_daemon.hpp"
+#include "test_environment.hpp"
+#include "wheeltec/telemetry_record.hpp"
 
 namespace record_tests {
 namespace {
@@ -130,6 +132,16 @@ class Recorder : public serial_tests::SerialTest {
   }
 
   static double seconds(std::uint64_t log_time) { return static_cast<double>(log_time) / 1e9; }
+
+  // Exactly one file, named for `trigger`, whose first trigger it is, with records in it.
+  void expect_one_file_for(const std::string& trigger, std::chrono::milliseconds timeout) {
+    const auto files = wait_for_files(".mcap", 1, timeout);
+    ASSERT_EQ(files.size(), 1u) << recorder_->output_report();
+    EXPECT_TRUE(files[0].ends_with("-" + trigger + ".mcap")) << files[0];
+    const auto file = read_back(files[0]);
+    EXPECT_EQ(triggers_of(file).at(0)["trigger"], trigger);
+    EXPECT_GE(on(file, kTelemetry).size(), 20u);
+  }
 
   static Json triggers_of(const mcap_test::ReadFile& file) {
     for (const auto& [name, map] : file.metadata) {
@@ -270,6 +282,85 @@ TEST_F(Recorder, RetentionDeletesTheOldestFilesFirst) {
   for (const std::string& name : names_ending(".mcap")) total += fs::file_size(records_ / name);
   EXPECT_LE(total, 1'000'000u);
   EXPECT_TRUE(fs::exists(records_ / "notes.txt"));
+}
+
+// The daemon's own triggers, each from what sets it off on a robot.
+TEST_F(Recorder, TheDeadmanMakesAFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "1"}, 2s);
+  auto driver = daemon.connect();
+  driver.call("drive", {{"vx", 0.1}, {"vy", 0.0}, {"wz", 0.0}});  // and no more: the deadman stops it
+  expect_one_file_for("deadman", 5s);
+}
+
+TEST_F(Recorder, ARefusalMakesAFileWhenAskedFor) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "1", "--trigger", "refused"}, 2s);
+  const Json refused = daemon.connect().request("drive", {{"vx", "fast"}});
+  ASSERT_EQ(refused["error"]["code"], -32602) << refused.dump();
+  expect_one_file_for("refused", 5s);
+}
+
+TEST_F(Recorder, TheChassisFallingSilentMakesAnOfflineFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "1"}, 2s);
+  fake_->stop_telemetry();
+  expect_one_file_for("offline", 5s);
+}
+
+TEST_F(Recorder, TheCableUnpluggedMakesALinkDownFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "1"}, 2s);
+  fake_->unplug();
+  expect_one_file_for("link-down", 5s);  // offline comes with it, into the same file
+}
+
+TEST_F(Recorder, ALowBatteryMakesAFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "1"}, 2s);
+  wheeltec::RawTelemetry low = serial_tests::resting_record();
+  low.battery_mv = 10'000;  // under telemetry.low_battery_v, 10.8 V
+  fake_->set_telemetry(low);
+  expect_one_file_for("battery-low", 5s);
+}
+
+// wheeltec-emu as the controller: every record of the window is in the file, in order.
+TEST_F(Recorder, AFileFromTheEmulatorHoldsEveryRecordOfItsWindow) {
+  const fs::path link = *directory_ / "emulated_controller";
+  ChildProcess emulator("wheeltec-emu", integration::program_path("wheeltec-emu"),
+                        {"--serial", link.string(), "--boot-delay", "1", "--no-self-test"}, directory_->path());
+  const auto deadline = std::chrono::steady_clock::now() + 5s + integration::start_allowance();
+  while (!fs::exists(link)) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << emulator.output_report();
+    std::this_thread::sleep_for(20ms);
+  }
+  serial_tests::DaemonOptions options;
+  options.name = "wheeltecd-emulated";
+  SerialDaemon daemon(directory_->path(), link, options);
+  daemon.wait_listening();
+  auto client = daemon.connect();
+  ASSERT_TRUE(serial_tests::wait_for_status(client, serial_tests::phase_is("ready"), 5s)) << emulator.output_report();
+  start_recording(daemon, {"--before", "3", "--after", "2"}, 3s);
+  for (int i = 0; i < 10; ++i) {
+    client.call("drive", {{"vx", 0.2}, {"vy", 0.0}, {"wz", 0.0}});
+    std::this_thread::sleep_for(100ms);
+  }
+  client.call("mark", {{"text", "driven by the emulator"}});
+
+  const auto files = wait_for_files("-mark.mcap", 1, 6s);
+  ASSERT_EQ(files.size(), 1u) << recorder_->output_report();
+  const auto file = read_back(files[0]);
+  const auto telemetry = on(file, kTelemetry);
+  ASSERT_GE(telemetry.size(), 80u);  // 5 s at 20 Hz, less what the window's edges cut
+  for (std::size_t i = 1; i < telemetry.size(); ++i) {
+    ASSERT_EQ(Json::parse(telemetry[i]->payload)["seq"], Json::parse(telemetry[i - 1]->payload)["seq"].get<int>() + 1);
+  }
+  const double moved = Json::parse(on(file, kOdom).back()->payload)["pose"]["position"]["x"].get<double>() -
+                       Json::parse(on(file, kOdom).front()->payload)["pose"]["position"]["x"].get<double>();
+  EXPECT_GT(moved, 0.05);
+  int drives = 0;
+  for (const auto* event : on(file, kEvents)) drives += Json::parse(event->payload)["event"] == "drive";
+  EXPECT_EQ(drives, 10);
 }
 
 TEST_F(Recorder, ADirItCannotWriteIsExit2NamingIt) {
