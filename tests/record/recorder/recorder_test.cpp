@@ -324,6 +324,13 @@ TEST_F(Recorder, ALowBatteryMakesAFile) {
   expect_one_file_for("battery-low", 5s);
 }
 
+TEST_F(Recorder, TheControllerHaltingMakesAFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "1"}, 2s);
+  fake_->set_telemetry(serial_tests::resting_record(0, true));  // flag_stop after ready: halted
+  expect_one_file_for("halted", 5s);
+}
+
 // wheeltec-emu as the controller: every record of the window is in the file, in order.
 TEST_F(Recorder, AFileFromTheEmulatorHoldsEveryRecordOfItsWindow) {
   const fs::path link = *directory_ / "emulated_controller";
