@@ -2,6 +2,8 @@
 // Config tests' two questions about a config file's text: what it configures, and which
 // key it is refused for.
 
+#include <nlohmann/json.hpp>
+
 #include "wheeltec/config.hpp"
 
 #include <string>
