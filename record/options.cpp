@@ -11,23 +11,12 @@
 #include "wheeltec/version.hpp"
 
 #include "directory_store.hpp"
-#include "triggers.hpp"
 
 namespace wheeltec::record {
 namespace {
 
 std::chrono::nanoseconds nanoseconds(double seconds) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(seconds));
-}
-
-TriggerSet trigger_set(const std::vector<std::string>& names) {
-  TriggerSet set;
-  for (const std::string& name : names) {
-    const auto trigger = trigger_of_name(name);
-    if (!trigger) throw ConfigError("triggers", "unknown trigger \"" + name + "\"");
-    set.insert(*trigger);
-  }
-  return set;
 }
 
 // The program's own flags over the config file.
@@ -38,11 +27,7 @@ void apply_flags(const Options& options, RecorderConfig& c) {
   if (options.max_bytes) c.max_bytes = *options.max_bytes;
   if (options.continuous) c.continuous = true;
   if (options.split_s) c.split_s = *options.split_s;
-  if (!options.triggers.empty() || !options.no_triggers.empty()) {
-    const TriggerSet set = apply_trigger_options(trigger_set(c.triggers), options.triggers, options.no_triggers);
-    c.triggers.clear();
-    for (const Trigger trigger : set.members()) c.triggers.emplace_back(trigger_name(trigger));
-  }
+  c.triggers = apply_trigger_options(c.triggers, options.triggers, options.no_triggers);
 }
 
 }  // namespace
@@ -74,7 +59,7 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
 }
 
 RecorderConfig load_config(const Options& options) {
-  RecorderConfig defaults = default_recorder_config();
+  RecorderConfig defaults;
   defaults.socket = client::socket_path_from_environment();  // as wheeltecctl finds it
   const service::ConfigLayers<RecorderConfig> layers{kDefaultConfigFile, service::ConfigSecrecy::open,
                                                      apply_recorder_config, validate_recorder_config};
@@ -88,7 +73,7 @@ BlackBoxSettings black_box_settings(const RecorderConfig& config) {
   BlackBoxSettings settings;
   settings.before = nanoseconds(config.before_s);
   settings.after = nanoseconds(config.after_s);
-  settings.triggers = trigger_set(config.triggers);
+  settings.triggers = config.triggers;
   settings.max_bytes = config.max_bytes;
   if (config.continuous) settings.continuous_split = nanoseconds(config.split_s);
   settings.library = std::string("wheeltec-record ") + kVersion;

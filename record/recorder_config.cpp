@@ -9,7 +9,6 @@
 #include "wheeltec/config_checks.hpp"
 #include "wheeltec/config_fields.hpp"
 
-#include "triggers.hpp"
 
 namespace wheeltec::record {
 namespace {
@@ -27,10 +26,19 @@ void check_seconds(double value, double low, double high, bool low_inclusive, st
 
 }  // namespace
 
-RecorderConfig default_recorder_config() {
-  RecorderConfig config;
-  for (const Trigger trigger : default_triggers().members()) config.triggers.emplace_back(trigger_name(trigger));
-  return config;
+// The set a list of trigger names makes; an unknown name fails at its index.
+Field trigger_list(std::string_view key, TriggerSet& target) {
+  return {key, [key, &target](const json& value, const std::string& path) {
+            std::vector<std::string> names;
+            text_array(key, names).apply(value, path);
+            TriggerSet set;
+            for (std::size_t i = 0; i < names.size(); ++i) {
+              const auto trigger = trigger_of_name(names[i]);
+              if (!trigger) fail(fmt::format("{}[{}]", path, i), fmt::format("unknown trigger \"{}\"", names[i]));
+              set.insert(*trigger);
+            }
+            target = set;
+          }};
 }
 
 void apply_recorder_config(const json& document, RecorderConfig& config) {
@@ -43,7 +51,7 @@ void apply_recorder_config(const json& document, RecorderConfig& config) {
                        static_cast<std::uint64_t>(read_integer(value, path, 1, std::numeric_limits<std::int64_t>::max()));
                  }},
                 boolean("continuous", config.continuous), number("split_s", config.split_s),
-                text_array("triggers", config.triggers), object("log", {text("level", config.log.level)})});
+                trigger_list("triggers", config.triggers), object("log", {text("level", config.log.level)})});
 }
 
 void validate_recorder_config(const RecorderConfig& config) {
@@ -53,11 +61,6 @@ void validate_recorder_config(const RecorderConfig& config) {
   check_seconds(config.after_s, 0.0, kMaxAfterS, true, "after_s");
   check_seconds(config.split_s, 1.0, 86400.0, true, "split_s");
   if (config.max_bytes == 0) fail("max_bytes", "must be 1 or more");
-  for (std::size_t i = 0; i < config.triggers.size(); ++i) {
-    if (!trigger_of_name(config.triggers[i])) {
-      fail(fmt::format("triggers[{}]", i), fmt::format("unknown trigger \"{}\"", config.triggers[i]));
-    }
-  }
   config_checks::check_log_level(config.log.level);
 }
 

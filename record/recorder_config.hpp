@@ -12,6 +12,8 @@
 
 #include "wheeltec/config.hpp"  // ConfigError
 
+#include "triggers.hpp"
+
 namespace wheeltec::record {
 
 struct RecorderConfig {
@@ -22,9 +24,8 @@ struct RecorderConfig {
   std::uint64_t max_bytes = std::uint64_t{1} << 30;
   bool continuous = false;
   double split_s = 600.0;
-  // The triggers on, by name; the default is every trigger but `refused`. --trigger and
-  // --no-trigger change this set.
-  std::vector<std::string> triggers;
+  // The triggers on (key `triggers`, a list of names); --trigger and --no-trigger change it.
+  TriggerSet triggers = default_triggers();
   struct Log {
     std::string level = "info";
   } log;
@@ -32,8 +33,6 @@ struct RecorderConfig {
 
 inline constexpr double kMaxBeforeS = 3600.0;
 inline constexpr double kMaxAfterS = 600.0;  // a file spans 10 minutes at most anyway
-
-RecorderConfig default_recorder_config();
 
 // Merges a document of the config file's shape over `config`; throws ConfigError naming the key.
 void apply_recorder_config(const nlohmann::json& document, RecorderConfig& config);
