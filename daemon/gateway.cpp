@@ -33,7 +33,7 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
       config_(std::move(config)),
       started_(std::chrono::steady_clock::now()),
       link_(make_link(io, config_)),
-      telemetry_(config_.telemetry.low_battery_v),
+      telemetry_(config_.telemetry.low_battery_v, config_.odometry.scale),
       supervisor_(supervisor_settings(config_)),
       dock_(io),
       control_io_(io, *link_, config_),
@@ -105,6 +105,7 @@ StatusFields Gateway::status_fields() const {
   fields.control_enabled = supervisor_.enabled();
   fields.owner = supervisor_.owner();
   fields.target = supervisor_.target();
+  fields.odometry_scale = config_.odometry.scale;
   return fields;
 }
 
@@ -158,6 +159,7 @@ void Gateway::reload() {
   service::set_log_level(config_.log.level);
   control_.apply(config_);
   telemetry_.set_low_battery_v(config_.telemetry.low_battery_v);
+  telemetry_.set_scale(config_.odometry.scale);
   api_.set_policy(std::move(reloaded.access.control_policy));
   api_.set_max_clients(config_.api.max_clients);
   spdlog::info("SIGHUP: configuration reloaded");

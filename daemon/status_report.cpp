@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "wheeltec/config.hpp"
 #include "wheeltec/version.hpp"
 
 namespace wheeltec::daemon {
@@ -64,6 +65,7 @@ json status_to_json(const StatusIdentity& identity, const StatusFields& fields, 
        {{"enabled", fields.control_enabled},
         {"owner", optional_json(fields.owner)},
         {"target", {{"vx", fields.target.vx}, {"vy", fields.target.vy}, {"wz", fields.target.wz}}}}},
+      {"odometry", {{"scale", odometry_scale_to_json(fields.odometry_scale)}}},
   };
   // The dialect is how control frames look on CAN; the serial line has one frame format.
   if (identity.transport == Transport::can) status["chassis"]["dialect"] = to_string(identity.dialect);

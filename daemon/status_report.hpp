@@ -10,6 +10,7 @@
 
 #include "wheeltec/chassis_phase.hpp"
 #include "wheeltec/control_arbiter.hpp"
+#include "wheeltec/odometry.hpp"
 #include "wheeltec/types.hpp"
 
 #include "wheeltec/bus_state.hpp"
@@ -37,6 +38,7 @@ struct StatusFields {
   bool control_enabled = false;
   std::optional<ClientId> owner;
   Velocity target;
+  OdometryScale odometry_scale;  // changes on SIGHUP
   friend bool operator==(const StatusFields&, const StatusFields&) = default;
 };
 

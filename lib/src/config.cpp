@@ -24,6 +24,10 @@ constexpr std::size_t kIfNameSize = 16;   // IFNAMSIZ, including the terminating
 constexpr std::uint32_t kMaxMode = 0777;
 constexpr int kMinClients = 1;
 constexpr int kMaxClients = 1024;
+// A wheel more than twice or less than half the size the firmware assumes is a wrong
+// chassis type or a typo, not a tolerance.
+constexpr double kMinScale = 0.5;
+constexpr double kMaxScale = 2.0;
 
 // Deeper than any config file: refused before the document is walked.
 constexpr int kMaxDepth = 16;
@@ -156,6 +160,12 @@ void apply_config(const json& document, GatewayConfig& config) {
     }),
     object("telemetry", {number("timeout_s", c.telemetry.timeout_s),
                          number("low_battery_v", c.telemetry.low_battery_v)}),
+    object("odometry", {object("scale", {
+      number("x", c.odometry.scale.x),
+      number("y", c.odometry.scale.y),
+      number("yaw_positive", c.odometry.scale.yaw_positive),
+      number("yaw_negative", c.odometry.scale.yaw_negative),
+    })}),
     object("api", {
       text("socket", c.api.socket),
       mode("mode", c.api.mode),
@@ -198,6 +208,11 @@ void validate_config(const GatewayConfig& c) {
   check_half_open(c.telemetry.timeout_s, 0, 60, "telemetry.timeout_s");
   check_closed(c.telemetry.low_battery_v, 0, 100, "telemetry.low_battery_v");
 
+  check_closed(c.odometry.scale.x, kMinScale, kMaxScale, "odometry.scale.x");
+  check_closed(c.odometry.scale.y, kMinScale, kMaxScale, "odometry.scale.y");
+  check_closed(c.odometry.scale.yaw_positive, kMinScale, kMaxScale, "odometry.scale.yaw_positive");
+  check_closed(c.odometry.scale.yaw_negative, kMinScale, kMaxScale, "odometry.scale.yaw_negative");
+
   config_checks::check_socket_path(c.api.socket, "api.socket");
   if (c.api.socket.front() != '/') fail("api.socket", fmt::format("must be an absolute path, got \"{}\"", c.api.socket));
   if (c.api.mode > kMaxMode) fail("api.mode", fmt::format("must be at most 0777, got {:04o}", c.api.mode));
@@ -213,6 +228,10 @@ void validate_config(const GatewayConfig& c) {
   }
 
   config_checks::check_log_level(c.log.level);
+}
+
+json odometry_scale_to_json(const OdometryScale& scale) {
+  return json{{"x", scale.x}, {"y", scale.y}, {"yaw_positive", scale.yaw_positive}, {"yaw_negative", scale.yaw_negative}};
 }
 
 json config_to_json(const GatewayConfig& c) {
@@ -233,6 +252,7 @@ json config_to_json(const GatewayConfig& c) {
         {"disable_on_exit", c.control.disable_on_exit},
         {"limits", {{"vx", c.control.limits.vx}, {"vy", c.control.limits.vy}, {"wz", c.control.limits.wz}}}}},
       {"telemetry", {{"timeout_s", c.telemetry.timeout_s}, {"low_battery_v", c.telemetry.low_battery_v}}},
+      {"odometry", {{"scale", odometry_scale_to_json(c.odometry.scale)}}},
       {"api",
        {{"socket", c.api.socket},
         {"mode", fmt::format("{:04o}", c.api.mode)},

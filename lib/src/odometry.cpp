@@ -14,6 +14,11 @@ double normalize_angle(double angle) {
 
 }  // namespace
 
+Velocity scaled(const Velocity& measured, const OdometryScale& scale) {
+  return {measured.vx * scale.x, measured.vy * scale.y,
+          measured.wz * (measured.wz < 0.0 ? scale.yaw_negative : scale.yaw_positive)};
+}
+
 Odometry::Odometry(std::chrono::nanoseconds max_step) : max_step_(max_step) {}
 
 void Odometry::update(const Velocity& measured, RealtimeNanos time) {

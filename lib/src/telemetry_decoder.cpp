@@ -7,6 +7,7 @@ const TelemetrySample& TelemetryDecoder::decode(const RecordBytes& bytes, Realti
   sample.seq = ++seq_;
   sample.time = time;
   sample.record = to_physical(decode_raw(bytes));
+  sample.record.velocity = scaled(sample.record.velocity, scale_);
   sample.battery_low = sample.record.battery_v < low_battery_v_;
   odometry_.update(sample.record.velocity, time);
   sample.odom = odometry_.pose();

@@ -55,6 +55,7 @@ void expect_same(const GatewayConfig& a, const GatewayConfig& b) {
   EXPECT_EQ(a.control.limits.wz, b.control.limits.wz);
   EXPECT_EQ(a.telemetry.timeout_s, b.telemetry.timeout_s);
   EXPECT_EQ(a.telemetry.low_battery_v, b.telemetry.low_battery_v);
+  EXPECT_EQ(a.odometry.scale, b.odometry.scale);
   EXPECT_EQ(a.api.socket, b.api.socket);
   EXPECT_EQ(a.api.mode, b.api.mode);
   EXPECT_EQ(a.api.group, b.api.group);
@@ -79,6 +80,7 @@ GatewayConfig non_default_config() {
   c.control.limits = {0.4, 0.3, 1.2};
   c.telemetry.timeout_s = 1.5;
   c.telemetry.low_battery_v = 21.1;
+  c.odometry.scale = {0.97, 1.02, 1.1, 0.9};
   c.api.socket = "/tmp/wheeltec test.sock";
   c.api.mode = 0640;
   c.api.group = "robots";
@@ -106,6 +108,7 @@ TEST(ConfigDefaults, EmptyDocumentGivesTheSpecDefaults) {
   EXPECT_EQ(c.control.limits.wz, 3.0);
   EXPECT_EQ(c.telemetry.timeout_s, 0.5);
   EXPECT_EQ(c.telemetry.low_battery_v, 10.8);
+  EXPECT_EQ(c.odometry.scale, (OdometryScale{1.0, 1.0, 1.0, 1.0}));
   EXPECT_EQ(c.api.socket, "/run/wheeltecd/wheeltecd.sock");
   EXPECT_EQ(c.api.mode, 0660u);
   EXPECT_FALSE(c.api.group.has_value());
@@ -134,6 +137,7 @@ TEST(ConfigParse, EveryKeyIsApplied) {
                 "enable_refresh_s": 2.75, "disable_on_exit": false,
                 "limits": {"vx": 0.4, "vy": 0.3, "wz": 1.2}},
     "telemetry": {"timeout_s": 1.5, "low_battery_v": 21.1},
+    "odometry": {"scale": {"x": 0.97, "y": 1.02, "yaw_positive": 1.1, "yaw_negative": 0.9}},
     "api": {"socket": "/tmp/wheeltec test.sock", "mode": "0640", "group": "robots",
             "max_clients": 7, "control_users": ["alice", 1000], "control_groups": ["wheel", 27]},
     "log": {"level": "debug"}
@@ -353,6 +357,11 @@ INSTANTIATE_TEST_SUITE_P(
         RangeCase{R"({"telemetry": {"low_battery_v": 100}})", ""},
         RangeCase{R"({"telemetry": {"low_battery_v": -0.1}})", "telemetry.low_battery_v"},
         RangeCase{R"({"telemetry": {"low_battery_v": 100.1}})", "telemetry.low_battery_v"},
+        RangeCase{R"({"odometry": {"scale": {"x": 0.5, "y": 2.0, "yaw_positive": 0.5, "yaw_negative": 2}}})", ""},
+        RangeCase{R"({"odometry": {"scale": {"x": 0.49}}})", "odometry.scale.x"},
+        RangeCase{R"({"odometry": {"scale": {"y": 2.01}}})", "odometry.scale.y"},
+        RangeCase{R"({"odometry": {"scale": {"yaw_positive": 0}}})", "odometry.scale.yaw_positive"},
+        RangeCase{R"({"odometry": {"scale": {"yaw_negative": -1}}})", "odometry.scale.yaw_negative"},
         RangeCase{R"({"api": {"max_clients": 1}})", ""},
         RangeCase{R"({"api": {"max_clients": 1024}})", ""},
         RangeCase{R"({"api": {"max_clients": 0}})", "api.max_clients"},

@@ -11,6 +11,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "wheeltec/control_frame.hpp"
+#include "wheeltec/odometry.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -54,6 +55,9 @@ struct GatewayConfig {
     double timeout_s = 0.5;
     double low_battery_v = 10.8;
   } telemetry;
+  struct OdometryConfig {
+    OdometryScale scale;
+  } odometry;
   struct Api {
     std::string socket = "/run/wheeltecd/wheeltecd.sock";
     std::uint32_t mode = 0660;  // written as an octal string in JSON: "0660"
@@ -97,5 +101,8 @@ GatewayConfig parse_config(std::string_view text, GatewayConfig base = {});
 
 // The configuration as a complete JSON document of the config file's shape.
 nlohmann::json config_to_json(const GatewayConfig& config);
+
+// {"x", "y", "yaw_positive", "yaw_negative"}: the config key's shape, also the status object's.
+nlohmann::json odometry_scale_to_json(const OdometryScale& scale);
 
 }  // namespace wheeltec

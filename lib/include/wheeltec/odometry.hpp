@@ -8,6 +8,20 @@
 
 namespace wheeltec {
 
+// How far the robot really moves per unit of the controller's measured velocity: the
+// vendor driver's odom_x_scale, odom_y_scale, odom_z_scale_positive and _negative, for
+// wheels that are not exactly the size the firmware assumes.
+struct OdometryScale {
+  double x = 1.0;
+  double y = 1.0;
+  double yaw_positive = 1.0;  // applied to a positive (counter-clockwise) wz
+  double yaw_negative = 1.0;  // applied to a negative (clockwise) wz
+  friend bool operator==(const OdometryScale&, const OdometryScale&) = default;
+};
+
+// The measured velocity as the floor sees it; commands are never scaled.
+Velocity scaled(const Velocity& measured, const OdometryScale& scale);
+
 struct Pose {
   double x = 0.0;    // m
   double y = 0.0;    // m
