@@ -58,10 +58,9 @@ std::string format_calibration(const CalibrationResult& result) {
   return fmt::format(
       "odometry.scale.{0} = {1:.3f}\n"
       "(odometry {2}, measured {3}, current factor {4:.3f})\n"
-      "To apply it, set it in /etc/wheeltecd/wheeltecd.json:\n"
-      "  \"odometry\": {{\"scale\": {{\"{0}\": {1:.3f}}}}}\n"
-      "then reload wheeltecd: sudo systemctl reload wheeltecd (or send it SIGHUP).\n"
-      "The new factor applies from the next record.\n",
+      "To apply it, set \"{0}\": {1:.3f} in the \"odometry\": {{\"scale\": {{...}}}} object of\n"
+      "/etc/wheeltecd/wheeltecd.json, then: sudo systemctl reload wheeltecd (or send wheeltecd\n"
+      "SIGHUP). The new factor applies from the next record.\n",
       key, result.scale, amount_text(result.axis, result.odometry), amount_text(result.axis, result.measured),
       result.current);
 }
