@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -362,6 +363,34 @@ TEST_F(SerialCalibrate, FactorAppliedScalesWhatTelemetryReports) {
   const Json checked = Json::parse(again.standard_output());
   EXPECT_DOUBLE_EQ(checked["current"].get<double>(), scale) << checked.dump();
   EXPECT_NEAR(checked["scale"].get<double>(), scale * 0.3 / checked["odometry"].get<double>(), 1e-12);
+}
+
+TEST_F(SerialCalibrate, BadFlagsAreUsageErrors) {
+  const std::vector<std::vector<std::string>> usages{
+      {"calibrate"},
+      {"calibrate", "sideways"},
+      {"calibrate", "linear", "--distance", "0"},
+      {"calibrate", "linear", "--distance", "-1"},
+      {"calibrate", "linear", "--distance", "nan"},
+      {"calibrate", "linear", "--distance", "far"},
+      {"calibrate", "linear", "--speed", "0"},
+      {"calibrate", "linear", "--speed", "1.5"},
+      {"calibrate", "linear", "--reverse"},
+      {"calibrate", "angular", "--turns", "inf"},
+      {"calibrate", "angular", "--turns", "0"},
+      {"calibrate", "angular", "--speed", "10"},
+      {"calibrate", "angular", "--distance", "1"},
+  };
+  for (const auto& usage : usages) {
+    std::vector<std::string> arguments{"--socket", (directory_->path() / "none.sock").string()};
+    arguments.insert(arguments.end(), usage.begin(), usage.end());
+    const auto run = integration::run_program(integration::program_path("wheeltecctl"), arguments, directory_->path());
+    std::string command;
+    for (const auto& word : usage) command += " " + word;
+    EXPECT_TRUE(run.status.exited_with(2)) << command << ": " << run.describe();
+    EXPECT_EQ(run.out, "") << command;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << command << ": " << run.err;
+  }
 }
 
 }  // namespace
