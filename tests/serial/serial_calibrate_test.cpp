@@ -4,6 +4,10 @@
 // (a refusal, Ctrl-C, a killed wheeltecctl, a robot that does not move), the owner's answer,
 // and the round trip: the factor set in the config scales what `telemetry` reports.
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -275,6 +279,35 @@ TEST_F(SerialCalibrate, InterruptStopsTheRobot) {
   EXPECT_NE(run.standard_error().find("interrupted, stopped"), std::string::npos) << run.standard_error();
   auto client = daemon.connect();
   EXPECT_TRUE(client.call("status")["control"]["owner"].is_null());
+}
+
+// At the question the robot is stopped and control released: Ctrl-C simply ends it.
+TEST_F(SerialCalibrate, InterruptAtTheQuestionEndsIt) {
+  SerialDaemon& daemon = start_following();
+  const auto fifo = directory_->path() / "terminal";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const int keeper = ::open(fifo.c_str(), O_RDWR | O_CLOEXEC);  // a writer that never writes
+  ASSERT_GE(keeper, 0);
+  std::vector<std::string> shell{"-c", "exec \"$0\" \"$@\" < \"$CALIBRATE_ANSWER\"",
+                                 integration::program_path("wheeltecctl").string(), "--socket",
+                                 daemon.socket_path().string(), "calibrate", "linear", "--distance", "0.1",
+                                 "--speed", "0.5"};
+  ChildProcess run("wheeltecctl-question", "/bin/sh", shell, directory_->path(),
+                   ChildProcess::Environment{{"CALIBRATE_ANSWER", fifo.string()}});
+  const auto deadline = SteadyClock::now() + 10s;
+  while (run.standard_error().find("Metres measured") == std::string::npos && SteadyClock::now() < deadline) {
+    std::this_thread::sleep_for(20ms);
+  }
+  ASSERT_NE(run.standard_error().find("Metres measured"), std::string::npos) << run.output_report() << logs();
+  auto client = daemon.connect();
+  EXPECT_TRUE(client.call("status")["control"]["owner"].is_null()) << "control held while asking";
+  EXPECT_TRUE(fake_->commands().back().zero());
+  run.send_signal(SIGINT);
+  const auto ended = run.wait_for_exit(3s);
+  ::close(keeper);
+  ASSERT_TRUE(ended) << "Ctrl-C at the question did not end wheeltecctl\n" << run.output_report();
+  EXPECT_EQ(ended->signal, SIGINT) << ended->describe();
+  EXPECT_EQ(run.standard_output(), "");
 }
 
 // Killed while driving: the daemon's rules stop the robot (its connection closed).
