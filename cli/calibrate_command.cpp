@@ -115,7 +115,8 @@ std::variant<DriveOutcome, Interrupted> drive_and_measure(const GlobalOptions& o
   const auto first = daemon.wait(Clock::now() + kFirstRecordTimeout, [&] { return watch.has_record(); });
   if (first == DaemonSession::Wake::interrupted) return Interrupted{daemon.received_signal()};
   if (first == DaemonSession::Wake::timeout) {
-    throw CliError(kExitFailure, "no telemetry from the chassis within 2 s (see wheeltecctl status)");
+    throw CliError(kExitFailure, fmt::format("no telemetry from the chassis within {} s (see wheeltecctl status)",
+                                             kFirstRecordTimeout.count()));
   }
   watch.start();
 
@@ -128,8 +129,8 @@ std::variant<DriveOutcome, Interrupted> drive_and_measure(const GlobalOptions& o
     const Json first_result = daemon.drive(velocity);
     driving = true;
     if (first_result.value("clamped", false)) {
-      std::cerr << "wheeltecctl: the daemon clamped the speed to its limits: "
-                << first_result.dump() << "\n";
+      std::cerr << fmt::format("wheeltecctl: the daemon's limits clamp the speed to vx={:.3f} wz={:.3f}\n",
+                               first_result.value("vx", 0.0), first_result.value("wz", 0.0));
     }
     std::cerr << fmt::format("driving until the odometry reaches {} (Ctrl-C stops)\n",
                              progress_text(request.axis, target));
@@ -151,9 +152,10 @@ std::variant<DriveOutcome, Interrupted> drive_and_measure(const GlobalOptions& o
       }
       if (now >= best_time + kStallTime) {
         throw CliError(kExitFailure,
-                       fmt::format("the odometry has not moved for 3 s (at {} of {}): is the robot lifted, "
+                       fmt::format("the odometry has not moved for {} s (at {} of {}): is the robot lifted, "
                                    "blocked or halted? Stopped, nothing changed",
-                                   progress_text(request.axis, watch.progress()), progress_text(request.axis, target)));
+                                   kStallTime.count(), progress_text(request.axis, watch.progress()),
+                                   progress_text(request.axis, target)));
       }
       if (now >= next_send) {
         daemon.drive(velocity);
@@ -184,7 +186,8 @@ std::variant<DriveOutcome, Interrupted> drive_and_measure(const GlobalOptions& o
     return Interrupted{daemon.received_signal()};
   }
   if (rest == DaemonSession::Wake::timeout) {
-    throw CliError(kExitFailure, "stopped, but the robot did not come to rest within 5 s; nothing changed");
+    throw CliError(kExitFailure, fmt::format("stopped, but the robot did not come to rest within {} s; nothing changed",
+                                             kRestTimeout.count()));
   }
   const double progress = watch.progress();
   if (progress <= 0.0) throw CliError(kExitFailure, "the odometry ended where it started; nothing changed");

@@ -119,7 +119,10 @@ TEST_F(SerialCalibrate, LinearPrintsCurrentTimesMeasuredOverOdometry) {
 }
 
 TEST_F(SerialCalibrate, HumanOutputIsTheKeyLineAndHowToApplyIt) {
-  SerialDaemon& daemon = start_following();
+  DaemonOptions options;  // the daemon's limits clamp --speed 0.4: said, and it drives at 0.3
+  options.config_patch = {{"control", {{"limits", {{"vx", 0.3}}}}}};
+  SerialDaemon& daemon = start_following(options);
+  const std::size_t from = fake_->command_count();
   auto client = daemon.connect();
   // An answer that is not a measurement is asked again.
   ChildProcess& run =
@@ -142,6 +145,8 @@ TEST_F(SerialCalibrate, HumanOutputIsTheKeyLineAndHowToApplyIt) {
   EXPECT_NE(err.find("Metres measured (empty line aborts): "), std::string::npos) << err;
   EXPECT_NE(err.find("'abc' is not a number"), std::string::npos) << err;
   EXPECT_NE(err.find("'0,3' is not a number"), std::string::npos) << err;
+  EXPECT_NE(err.find("the daemon's limits clamp the speed to vx=0.300 wz=0.000"), std::string::npos) << err;
+  expect_drove_then_stopped(from, 300, 0);
 }
 
 // 1.25 turns from yaw 0 crosses the odometry's wrap at +-pi: the turn is counted whole.
