@@ -105,7 +105,7 @@ TEST_F(SerialCalibrate, LinearPrintsCurrentTimesMeasuredOverOdometry) {
   EXPECT_DOUBLE_EQ(result["current"].get<double>(), 1.0);
   const double odometry = result["odometry"].get<double>();
   EXPECT_GE(odometry, 0.3) << "stopped before the odometry covered the distance";
-  EXPECT_LT(odometry, 0.3 + 0.15) << "more than a few records at 0.5 m/s past the distance";
+  EXPECT_LT(odometry, 0.3 + 0.25) << "more than 0.5 s at 0.5 m/s past the distance";
   EXPECT_NEAR(result["scale"].get<double>(), 1.0 * 0.285 / odometry, 1e-12);
 
   // The odometry it reports is the daemon's at rest: the straight line from the start (0, 0).
@@ -164,7 +164,7 @@ TEST_F(SerialCalibrate, AngularCountsTurnsAcrossTheWrap) {
   EXPECT_EQ(result["axis"], "yaw_positive") << result.dump();
   const double odometry = result["odometry"].get<double>();  // degrees
   EXPECT_GE(odometry, 450.0) << result.dump();
-  EXPECT_LT(odometry, 450.0 + 30.0) << "more than a few records at 2 rad/s past 1.25 turns: " << result.dump();
+  EXPECT_LT(odometry, 450.0 + 60.0) << "more than 0.5 s at 2 rad/s past 1.25 turns: " << result.dump();
   EXPECT_NEAR(result["scale"].get<double>(), 460.0 / odometry, 1e-12);
   const double yaw = client.call("telemetry")["odom"]["yaw"].get<double>();
   EXPECT_NEAR(yaw, normalised_yaw(odometry / kDegreesPerRadian), 2e-6) << "the daemon's yaw at rest is " << yaw;
@@ -187,7 +187,7 @@ TEST_F(SerialCalibrate, ReverseTurnsClockwiseAndSetsYawNegative) {
   EXPECT_EQ(result["axis"], "yaw_negative") << result.dump();
   const double odometry = result["odometry"].get<double>();
   EXPECT_GE(odometry, 270.0) << result.dump();
-  EXPECT_LT(odometry, 270.0 + 30.0) << result.dump();
+  EXPECT_LT(odometry, 270.0 + 60.0) << result.dump();
   EXPECT_DOUBLE_EQ(result["current"].get<double>(), 1.1) << result.dump();
   EXPECT_NEAR(result["scale"].get<double>(), 1.1 * 265.0 / odometry, 1e-12);
   const double yaw = client.call("telemetry")["odom"]["yaw"].get<double>();
