@@ -237,8 +237,8 @@ int run_calibrate(const GlobalOptions& options, const CalibrationRequest& reques
     throw CliError(kExitFailure,
                    fmt::format("the factor would be {:.3f} (odometry {:.3f}, measured {:.3f}, current {:.3f}), "
                                "outside [{}, {}] that wheeltecd accepts: check the measurement and the units",
-                               result.scale, result.odometry, result.measured, result.current, cal::kMinimumScale,
-                               cal::kMaximumScale));
+                               result.scale, result.odometry, result.measured, result.current,
+                               wheeltec::kMinOdometryScale, wheeltec::kMaxOdometryScale));
   }
   if (options.json) {
     std::cout << calibration_json(result).dump() << std::endl;

@@ -56,7 +56,7 @@ double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
 
 double scale_factor(double current, double measured, double odometry) { return current * measured / odometry; }
 
-bool scale_in_range(double scale) { return scale >= kMinimumScale && scale <= kMaximumScale; }
+bool scale_in_range(double scale) { return scale >= kMinOdometryScale && scale <= kMaxOdometryScale; }
 
 Answer parse_answer(std::string_view line) {
   constexpr std::string_view kBlanks = " \t\r\n\f\v";

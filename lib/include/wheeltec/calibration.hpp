@@ -69,9 +69,7 @@ double radians(double degrees);
 // already carries the current factor, so the new one replaces it.
 double scale_factor(double current, double measured, double odometry);
 
-// The factors wheeltecd accepts in `odometry.scale` (spec section 11).
-inline constexpr double kMinimumScale = 0.5;
-inline constexpr double kMaximumScale = 2.0;
+// Whether wheeltecd accepts the factor in `odometry.scale` (kMinOdometryScale to kMaxOdometryScale).
 bool scale_in_range(double scale);
 
 // The owner's answer to "what did you measure?", one line of text.
