@@ -111,17 +111,17 @@ int run(int argc, char** argv) {
   calibrate->fallthrough();
   CLI::App* linear = calibrate->add_subcommand("linear", "Drive straight ahead; set odometry.scale.x");
   linear->fallthrough();
-  linear->add_option("--distance", linear_calibration.distance_or_turns, "Metres of odometry to drive (default 1.0)")
+  linear->add_option("--distance", linear_calibration.distance_or_turns, "Metres of odometry to drive (default 1.0, up to 100)")
       ->check(command_line::finite_in(0.0, 100.0, command_line::LowBound::exclusive).description(""))
       ->type_name("M");
   linear->add_option("--speed", linear_calibration.speed, "m/s, 0.02 to 1.0 (default 0.2)")
       ->check(command_line::finite_in(0.02, 1.0).description(""))
       ->type_name("V");
   CLI::App* angular = calibrate->add_subcommand(
-      "angular", "Turn on the spot, counter-clockwise (set odometry.scale.yaw_positive) or clockwise with\n"
-                 "--reverse (set odometry.scale.yaw_negative)");
+      "angular", "Turn on the spot; counter-clockwise sets odometry.scale.yaw_positive,\n"
+                 "clockwise (--reverse) sets odometry.scale.yaw_negative");
   angular->fallthrough();
-  angular->add_option("--turns", angular_calibration.distance_or_turns, "Turns of odometry (default 1)")
+  angular->add_option("--turns", angular_calibration.distance_or_turns, "Turns of odometry (default 1, up to 100)")
       ->check(command_line::finite_in(0.0, 100.0, command_line::LowBound::exclusive).description(""))
       ->type_name("N");
   angular->add_option("--speed", angular_calibration.speed, "rad/s, 0.05 to 3.0 (default 0.5)")
