@@ -7,13 +7,14 @@
 
 #include "wheeltec/service/logging.hpp"
 
+#include "battery.hpp"
 #include "messages.hpp"
 
 namespace wheeltec::ros2 {
 namespace {
 
-constexpr auto kDiagnosticsPeriod = std::chrono::seconds(1);
-constexpr auto kVoltagePeriod = std::chrono::seconds(1);
+constexpr auto kOnceASecond = std::chrono::seconds(1);  // diagnostics, robot_charging_flag
+constexpr auto kBatteryPeriod = std::chrono::seconds(1);
 constexpr int kDepth = 10;
 constexpr int kTfDepth = 100;
 
@@ -56,7 +57,11 @@ Bridge::Bridge(boost::asio::io_context& io, Ros2Config config)
       voltage_(participant_, dds_topic(config_.name_space, "PowerVoltage"), std_msgs_msg_dds__Float32__desc, kDepth),
       diagnostics_(participant_, dds_topic(config_.name_space, "diagnostics"),
                    diagnostic_msgs_msg_dds__DiagnosticArray__desc, kDepth),
-      diagnostics_timer_(io) {
+      battery_state_(participant_, dds_topic(config_.name_space, "battery_state"),
+                     sensor_msgs_msg_dds__BatteryState__desc, kDepth),
+      charging_flag_(participant_, dds_topic(config_.name_space, "robot_charging_flag"), std_msgs_msg_dds__Bool__desc,
+                     kDepth),
+      once_a_second_timer_(io) {
   if (config_.publish_tf) {
     tf_.emplace(participant_, dds_topic(config_.name_space, "tf"), tf2_msgs_msg_dds__TFMessage__desc, kTfDepth);
   }
@@ -70,22 +75,28 @@ Bridge::~Bridge() { stop(); }
 
 void Bridge::start() {
   const std::string where = config_.name_space.empty() ? "" : " in namespace /" + config_.name_space;
-  spdlog::info("ROS 2 topics{} on DDS domain {}{}; daemon at {}", where, config_.domain_id,
-               config_.localhost_only ? " (localhost only)" : "", config_.socket);
-  cmd_vel_ = std::make_unique<TwistReader>(
+  spdlog::info("ROS 2 topics{} on DDS domain {}{}; daemon at {}; cmd_vel is {}", where, config_.domain_id,
+               config_.localhost_only ? " (localhost only)" : "", config_.socket,
+               config_.cmd_vel_stamped ? "TwistStamped" : "Twist");
+  if (config_.battery.empty_v.has_value() != config_.battery.full_v.has_value()) {
+    spdlog::warn("battery_state has no percentage: battery.{} is not set",
+                 config_.battery.empty_v ? "full_v" : "empty_v");
+  }
+  cmd_vel_ = std::make_unique<CmdVelReader>(
       participant_, dds_topic(config_.name_space, "cmd_vel"),
+      config_.cmd_vel_stamped ? CmdVelType::twist_stamped : CmdVelType::twist,
       [this](const geometry_msgs_msg_dds__Twist_& twist) {
         if (cmd_vel_mailbox_.put(twist)) boost::asio::post(io_, [this] { handle_cmd_vel(); });
       });
   daemon_.start();
-  run_diagnostics_timer();
+  run_once_a_second_timer();
 }
 
 void Bridge::stop() {
   cmd_vel_.reset();
   driver_.cancel();
   daemon_.stop();
-  diagnostics_timer_.cancel();
+  once_a_second_timer_.cancel();
 }
 
 // --- out: the daemon's records and status ---
@@ -106,19 +117,34 @@ void Bridge::handle_telemetry(const client::Telemetry& record) {
     publish(*tf_, &transform.message, "tf");
   }
   const Clock::time_point now = Clock::now();
-  if (now >= next_voltage_) {
-    next_voltage_ = now + kVoltagePeriod;
+  if (now >= next_battery_) {
+    next_battery_ = now + kBatteryPeriod;
     const std_msgs_msg_dds__Float32_ voltage{static_cast<float>(record.battery_voltage)};
     publish(voltage_, &voltage, "PowerVoltage");
+    const sensor_msgs_msg_dds__BatteryState_ battery =
+        battery_state_of(record, dock_charging().value_or(false), config_.frames, config_.battery);
+    publish(battery_state_, &battery, "battery_state");
   }
 }
 
-void Bridge::handle_status(const client::Status& status) { status_ = status; }
+void Bridge::handle_status(const client::Status& status) {
+  status_ = status;
+  // A dock that appears, or starts or stops charging, is told at once; the timer repeats it.
+  if (const std::optional<bool> charging = dock_charging(); charging != charging_flag_sent_) publish_charging_flag();
+}
+
+std::optional<bool> Bridge::dock_charging() const {
+  if (!status_) return std::nullopt;
+  const std::optional<Dock> dock = dock_of(*status_);
+  if (!dock) return std::nullopt;
+  return dock->charging;
+}
 
 void Bridge::daemon_down(const client::Subscription::Outage& outage) {
   if (outage.was_up) spdlog::warn("lost wheeltecd at {}: {}", config_.socket, outage.error.message());
   spdlog::debug("reconnecting to wheeltecd in {} ms", outage.retry_in.count());
   status_.reset();
+  charging_flag_sent_.reset();
 }
 
 void Bridge::publish_diagnostics() {
@@ -135,11 +161,20 @@ void Bridge::publish_diagnostics() {
   publish(diagnostics_, &array, "diagnostics");
 }
 
-void Bridge::run_diagnostics_timer() {
+// robot_charging_flag, as the vendor's driver: only while a dock is heard.
+void Bridge::publish_charging_flag() {
+  charging_flag_sent_ = dock_charging();
+  if (!charging_flag_sent_) return;
+  const std_msgs_msg_dds__Bool_ flag{*charging_flag_sent_};
+  publish(charging_flag_, &flag, "robot_charging_flag");
+}
+
+void Bridge::run_once_a_second_timer() {
   publish_diagnostics();
-  diagnostics_timer_.expires_after(kDiagnosticsPeriod);
-  diagnostics_timer_.async_wait([this](boost::system::error_code ec) {
-    if (!ec) run_diagnostics_timer();
+  publish_charging_flag();
+  once_a_second_timer_.expires_after(kOnceASecond);
+  once_a_second_timer_.async_wait([this](boost::system::error_code ec) {
+    if (!ec) run_once_a_second_timer();
   });
 }
 

@@ -6,7 +6,8 @@
 //    the daemon's deadman stops the robot;
 //  - drives go over a daemon connection of their own, so a bridge that dies or stops is a
 //    closed connection, and the daemon stops the robot at once;
-//  - a cmd_vel with a non-finite value is dropped.
+//  - a cmd_vel with a non-finite value is dropped;
+//  - a TwistStamped cmd_vel (cmd_vel_stamped) is its Twist: the same path, the same rules.
 
 #include <chrono>
 #include <memory>
@@ -46,7 +47,9 @@ class Bridge {
   void drive_answered(boost::system::error_code ec, const client::Json& result);
   void publish(DdsWriter& writer, const void* sample, const char* topic);
   void publish_diagnostics();
-  void run_diagnostics_timer();
+  void publish_charging_flag();
+  std::optional<bool> dock_charging() const;  // none while no dock is heard
+  void run_once_a_second_timer();
 
   boost::asio::io_context& io_;
   Ros2Config config_;
@@ -58,11 +61,14 @@ class Bridge {
   DdsWriter voltage_;
   std::optional<DdsWriter> tf_;
   DdsWriter diagnostics_;
+  DdsWriter battery_state_;
+  DdsWriter charging_flag_;
   TwistMailbox cmd_vel_mailbox_;
-  std::unique_ptr<TwistReader> cmd_vel_;
-  boost::asio::steady_timer diagnostics_timer_;
+  std::unique_ptr<CmdVelReader> cmd_vel_;
+  boost::asio::steady_timer once_a_second_timer_;  // diagnostics, robot_charging_flag
   std::optional<client::Status> status_;  // none while the daemon is unreachable
-  Clock::time_point next_voltage_{};
+  std::optional<bool> charging_flag_sent_;  // none while no dock is heard
+  Clock::time_point next_battery_{};        // PowerVoltage, battery_state
   RefusalRecord refusals_;
   LogRateLimiter refusal_log_{kRefusalLogBudget};
   BridgeCounters counters_;

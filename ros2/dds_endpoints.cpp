@@ -81,30 +81,45 @@ bool DdsWriter::write(const void* sample) {
   return false;
 }
 
-TwistReader::TwistReader(const DdsParticipant& participant, const std::string& topic, Handler handler)
+CmdVelReader::CmdVelReader(const DdsParticipant& participant, const std::string& topic, CmdVelType type,
+                           Handler handler)
     : handler_(std::move(handler)) {
+  const dds_topic_descriptor_t* descriptor = nullptr;
+  if (type == CmdVelType::twist_stamped) {
+    descriptor = &geometry_msgs_msg_dds__TwistStamped__desc;
+    twist_of_ = [](const void* sample) -> const geometry_msgs_msg_dds__Twist_& {
+      return static_cast<const geometry_msgs_msg_dds__TwistStamped_*>(sample)->twist_;
+    };
+  } else {
+    descriptor = &geometry_msgs_msg_dds__Twist__desc;
+    twist_of_ = [](const void* sample) -> const geometry_msgs_msg_dds__Twist_& {
+      return *static_cast<const geometry_msgs_msg_dds__Twist_*>(sample);
+    };
+  }
   Qos qos = new_qos();
   dds_qset_reliability(qos.get(), DDS_RELIABILITY_BEST_EFFORT, 0);
   dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
   dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, 1);
   set_xcdr1(qos.get());
   dds_listener_t* listener = dds_create_listener(this);
-  dds_lset_data_available(listener, &TwistReader::on_data_available);
-  reader_ = dds_create_reader(participant.handle(), topic_of(participant, topic, geometry_msgs_msg_dds__Twist__desc),
-                              qos.get(), listener);
+  dds_lset_data_available(listener, &CmdVelReader::on_data_available);
+  reader_ = dds_create_reader(participant.handle(), topic_of(participant, topic, *descriptor), qos.get(), listener);
   dds_delete_listener(listener);
   check(reader_, fmt::format("DDS reader of {}", topic));
 }
 
-TwistReader::~TwistReader() { dds_delete(reader_); }
+CmdVelReader::~CmdVelReader() { dds_delete(reader_); }
 
-void TwistReader::on_data_available(dds_entity_t reader, void* self) {
-  auto& twist_reader = *static_cast<TwistReader*>(self);
-  geometry_msgs_msg_dds__Twist_ twist{};
-  void* samples[1] = {&twist};
-  dds_sample_info_t info{};
-  while (dds_take(reader, samples, &info, 1, 1) > 0) {
-    if (info.valid_data) twist_reader.handler_(twist);
+void CmdVelReader::on_data_available(dds_entity_t reader, void* self) {
+  auto& cmd_vel_reader = *static_cast<CmdVelReader*>(self);
+  // Loaned samples (a null pointer asks for one): Cyclone owns what a TwistStamped's frame_id
+  // allocates.
+  for (;;) {
+    void* samples[1] = {nullptr};
+    dds_sample_info_t info{};
+    if (dds_take(reader, samples, &info, 1, 1) <= 0) break;
+    if (info.valid_data) cmd_vel_reader.handler_(cmd_vel_reader.twist_of_(samples[0]));
+    dds_return_loan(reader, samples, 1);
   }
 }
 

@@ -52,20 +52,26 @@ class DdsWriter {
   std::string error_;
 };
 
+// What cmd_vel carries: geometry_msgs/msg/Twist, or geometry_msgs/msg/TwistStamped (nav2's
+// enable_stamped_cmd_vel), whose header is ignored.
+enum class CmdVelType { twist, twist_stamped };
+
 // cmd_vel: BEST_EFFORT, KEEP_LAST 1, matching reliable and best-effort writers alike. The
-// handler runs on one of Cyclone's threads, once for each valid sample.
-class TwistReader {
+// handler runs on one of Cyclone's threads, once for each valid sample, with its Twist.
+class CmdVelReader {
  public:
   using Handler = std::function<void(const geometry_msgs_msg_dds__Twist_&)>;
-  TwistReader(const DdsParticipant& participant, const std::string& topic, Handler handler);
+  CmdVelReader(const DdsParticipant& participant, const std::string& topic, CmdVelType type, Handler handler);
   // Returns once no handler runs any more.
-  ~TwistReader();
-  TwistReader(const TwistReader&) = delete;
-  TwistReader& operator=(const TwistReader&) = delete;
+  ~CmdVelReader();
+  CmdVelReader(const CmdVelReader&) = delete;
+  CmdVelReader& operator=(const CmdVelReader&) = delete;
 
  private:
+  using TwistOf = const geometry_msgs_msg_dds__Twist_& (*)(const void* sample);
   static void on_data_available(dds_entity_t reader, void* self);
   Handler handler_;
+  TwistOf twist_of_;
   dds_entity_t reader_ = 0;
 };
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace wheeltec::ros2 {
 namespace {
@@ -84,6 +85,31 @@ OdomTransform::OdomTransform(const client::Telemetry& record, const Frames& fram
   message.transforms_._length = 1;
   message.transforms_._buffer = &transform;
   message.transforms_._release = false;
+}
+
+sensor_msgs_msg_dds__BatteryState_ battery_state_of(const client::Telemetry& record, bool charging,
+                                                    const Frames& frames, const BatteryConfig& battery) {
+  // sensor_msgs/msg/BatteryState's constants.
+  constexpr std::uint8_t kCharging = 1;
+  constexpr std::uint8_t kDischarging = 2;
+  constexpr std::uint8_t kHealthUnknown = 0;
+  constexpr float kUnmeasured = std::numeric_limits<float>::quiet_NaN();
+  sensor_msgs_msg_dds__BatteryState_ state{};
+  state.header_ = header_of(record.time, frames.base);
+  state.voltage_ = static_cast<float>(record.battery_voltage);
+  state.temperature_ = kUnmeasured;
+  state.current_ = kUnmeasured;
+  state.charge_ = kUnmeasured;
+  state.capacity_ = kUnmeasured;
+  state.design_capacity_ = kUnmeasured;
+  state.percentage_ = static_cast<float>(battery_percentage(record.battery_voltage, battery));
+  state.power_supply_status_ = charging ? kCharging : kDischarging;
+  state.power_supply_health_ = kHealthUnknown;
+  state.power_supply_technology_ = static_cast<std::uint8_t>(battery.technology);
+  state.present_ = true;
+  state.location_ = const_cast<char*>("");
+  state.serial_number_ = const_cast<char*>("");
+  return state;
 }
 
 std::optional<client::Velocity> drive_of(const geometry_msgs_msg_dds__Twist_& twist) {

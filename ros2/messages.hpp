@@ -36,6 +36,12 @@ struct OdomTransform {
   tf2_msgs_msg_dds__TFMessage_ message;
 };
 
+// sensor_msgs/msg/BatteryState of the record's battery: stamped with the record's time in
+// frames.base; voltage, percentage, the technology, CHARGING while `charging` else
+// DISCHARGING; what the chassis does not measure NaN, no cells, empty strings.
+sensor_msgs_msg_dds__BatteryState_ battery_state_of(const client::Telemetry& record, bool charging,
+                                                    const Frames& frames, const BatteryConfig& battery);
+
 // linear.x, linear.y and angular.z; none when one of them is not finite (the other
 // components are not used, whatever they hold).
 std::optional<client::Velocity> drive_of(const geometry_msgs_msg_dds__Twist_& twist);

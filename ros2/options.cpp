@@ -34,6 +34,13 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
   app.add_option("--namespace", options.name_space, "ROS namespace of the topics, overrides namespace")
       ->type_name("NS");
   app.add_flag("--no-tf", options.no_tf, "Do not publish tf (when an EKF publishes odom -> base), overrides publish_tf");
+  app.add_flag("--cmd-vel-stamped", options.cmd_vel_stamped,
+               "cmd_vel is geometry_msgs/msg/TwistStamped instead of Twist, overrides cmd_vel_stamped");
+  app.footer(
+      "Topics, relative to --namespace: cmd_vel in; odom, imu, tf, PowerVoltage, battery_state, diagnostics and,\n"
+      "while a dock is heard, robot_charging_flag out (man wheeltec-ros2).\n"
+      "nav2 on Jazzy publishes Twist (enable_stamped_cmd_vel: false, its default): no flag needed.\n"
+      "nav2 on Kilted publishes TwistStamped (enable_stamped_cmd_vel: true, its default): --cmd-vel-stamped.");
   return command_line::parse_bridge_command_line(app, options, argc, argv);
 }
 
@@ -50,6 +57,7 @@ Ros2Config load_config(const Options& options) {
     if (options.localhost_only) config.localhost_only = true;
     if (options.name_space) config.name_space = normalize_namespace(*options.name_space, "--namespace");
     if (options.no_tf) config.publish_tf = false;
+    if (options.cmd_vel_stamped) config.cmd_vel_stamped = true;
   });
 }
 

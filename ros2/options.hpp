@@ -18,6 +18,7 @@ struct Options : command_line::BridgeFlags {
   bool localhost_only = false;
   std::optional<std::string> name_space;
   bool no_tf = false;
+  bool cmd_vel_stamped = false;
 };
 
 // On --help or --version the result is exit code 0; on bad usage a one-line error goes to

@@ -3,8 +3,10 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <utility>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "wheeltec/config_checks.hpp"
@@ -41,6 +43,40 @@ bool is_name_token(std::string_view token) {
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
   }
   return token.find("__") == std::string_view::npos;
+}
+
+// A number, or null for none.
+Field optional_number(std::string_view key, std::optional<double>& target) {
+  return {key, [&target](const json& value, const std::string& path) {
+            if (value.is_null()) target.reset();
+            else target = read_number(value, path);
+          }};
+}
+
+Field technology(std::string_view key, BatteryTechnology& target) {
+  return {key, [&target](const json& value, const std::string& path) {
+            const std::string& name = read_text(value, path);
+            const std::optional<BatteryTechnology> technology = battery_technology_named(name);
+            if (!technology) {
+              fail(path,
+                   fmt::format("must be one of {}, got \"{}\"", fmt::join(battery_technology_names(), ", "), name));
+            }
+            target = *technology;
+          }};
+}
+
+void check_battery(const BatteryConfig& battery) {
+  const std::pair<std::optional<double>, const char*> ends[] = {{battery.empty_v, "battery.empty_v"},
+                                                                 {battery.full_v, "battery.full_v"}};
+  for (const auto& [voltage, key] : ends) {
+    if (voltage && !std::isfinite(*voltage)) {
+      fail(key, fmt::format("must be a finite number of volts, got {}", *voltage));
+    }
+  }
+  if (battery.empty_v && battery.full_v && !(*battery.empty_v < *battery.full_v)) {
+    fail("battery.full_v",
+         fmt::format("must be more than battery.empty_v ({} V), got {} V", *battery.empty_v, *battery.full_v));
+  }
 }
 
 void check_frame(const std::string& frame, std::string_view key) {
@@ -85,12 +121,16 @@ void apply_ros2_config(const json& document, Ros2Config& config) {
                    config.name_space = normalize_namespace(read_text(value, path), path);
                  }},
                 boolean("publish_tf", config.publish_tf),
+                boolean("cmd_vel_stamped", config.cmd_vel_stamped),
                 object("frames", {text("odom", config.frames.odom), text("base", config.frames.base),
                                   text("imu", config.frames.imu)}),
                 object("covariance", {diagonal("pose", covariance.pose), diagonal("twist", covariance.twist),
                                       diagonal("orientation", covariance.orientation),
                                       diagonal("angular_velocity", covariance.angular_velocity),
                                       diagonal("linear_acceleration", covariance.linear_acceleration)}),
+                object("battery", {optional_number("empty_v", config.battery.empty_v),
+                                   optional_number("full_v", config.battery.full_v),
+                                   technology("technology", config.battery.technology)}),
                 object("log", {text("level", config.log.level)})});
 }
 
@@ -108,6 +148,7 @@ void validate_ros2_config(const Ros2Config& config) {
   check_diagonal(config.covariance.orientation, "covariance.orientation");
   check_diagonal(config.covariance.angular_velocity, "covariance.angular_velocity");
   check_diagonal(config.covariance.linear_acceleration, "covariance.linear_acceleration");
+  check_battery(config.battery);
   config_checks::check_log_level(config.log.level);
 }
 

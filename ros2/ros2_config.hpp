@@ -15,6 +15,8 @@
 
 #include "wheeltec/config.hpp"  // ConfigError
 
+#include "battery.hpp"
+
 namespace wheeltec::ros2 {
 
 // The diagonals of the messages' covariance matrices (row-major 6x6 and 3x3 in ROS).
@@ -43,8 +45,10 @@ struct Ros2Config {
   bool localhost_only = false;
   std::string name_space;  // "" or "/robot1"-like; stored without leading or trailing '/'
   bool publish_tf = true;
+  bool cmd_vel_stamped = false;  // cmd_vel is geometry_msgs/msg/TwistStamped rather than Twist
   Frames frames;
   Covariance covariance;
+  BatteryConfig battery;
   struct Log {
     std::string level = "info";
   } log;

@@ -1,6 +1,7 @@
 // Driving the robot from ROS 2: cmd_vel from teleop-like (RELIABLE) and nav2-like publishers,
-// seen as control frames on vcan0, and what stops the robot: cmd_vel going quiet, the bridge
-// being killed, a message with NaN in it, another client holding control.
+// as Twist or, with cmd_vel_stamped, as TwistStamped, seen as control frames on vcan0, and
+// what stops the robot: cmd_vel going quiet, the bridge being killed, a message with NaN in
+// it, another client holding control.
 
 #include <algorithm>
 #include <limits>
@@ -19,6 +20,7 @@ namespace {
 using namespace std::chrono_literals;
 using integration::CanBus;
 using integration::seconds_between;
+using ros2_side::CmdVelMessage;
 using ros2_side::CmdVelWriter;
 using ros2_side::make_twist;
 using ros2_side::Reliability;
@@ -42,9 +44,10 @@ bool is_cmd_vel_frame(const wheeltec::CanFrame& frame) {
 const geometry_msgs::msg::Twist kCmdVel = make_twist(0.3, 0.1, 0.5);
 
 // Publishes kCmdVel from a writer with this QoS and expects it on the bus.
-void expect_cmd_vel_drives(ros2_side::Participant& participant, Reliability reliability, int depth) {
+void expect_cmd_vel_drives(ros2_side::Participant& participant, Reliability reliability, int depth,
+                           CmdVelMessage message = CmdVelMessage::twist) {
   CanBus bus(integration::test_interface());
-  CmdVelWriter writer(participant, "rt/cmd_vel", reliability, depth);
+  CmdVelWriter writer(participant, "rt/cmd_vel", reliability, depth, message);
   ASSERT_TRUE(writer.wait_matched(kMatchTimeout)) << "the bridge's cmd_vel reader did not match";
   RepeatingPublisher publisher(writer, kCmdVel, kPublishPeriod);
   EXPECT_TRUE(bus.wait_for(is_cmd_vel_frame, 2s)) << "no control frame 300/100/500 for cmd_vel (0.3, 0.1, 0.5)";
@@ -60,10 +63,10 @@ TEST_F(Ros2Bridge, BestEffortCmdVelDrivesTheChassis) {
   expect_cmd_vel_drives(participant(), Reliability::best_effort, 1);
 }
 
-TEST_F(Ros2Bridge, WhenCmdVelStopsTheDeadmanStopsTheChassis) {
-  start();
+// nav2's controller publishing at its rate, then stopping: the daemon's deadman stops the chassis.
+void expect_the_deadman_stops_the_chassis(ros2_side::Participant& participant, CmdVelMessage message) {
   CanBus bus(integration::test_interface());
-  CmdVelWriter writer(participant(), "rt/cmd_vel", Reliability::reliable, 1);
+  CmdVelWriter writer(participant, "rt/cmd_vel", Reliability::reliable, 1, message);
   ASSERT_TRUE(writer.wait_matched(kMatchTimeout));
   RepeatingPublisher controller(writer, kCmdVel, kPublishPeriod);
   ASSERT_TRUE(bus.wait_for(is_cmd_vel_frame, 2s));
@@ -72,6 +75,45 @@ TEST_F(Ros2Bridge, WhenCmdVelStopsTheDeadmanStopsTheChassis) {
   ASSERT_TRUE(zero) << "the chassis kept driving after cmd_vel stopped: the bridge repeats it";
   EXPECT_LT(seconds_between(last_published, zero->time), kDeadmanS + kMarginS);
   EXPECT_TRUE(bus.collect(integration::is_moving_control_frame, 1s).empty()) << "motion resumed without a cmd_vel";
+}
+
+TEST_F(Ros2Bridge, WhenCmdVelStopsTheDeadmanStopsTheChassis) {
+  start();
+  expect_the_deadman_stops_the_chassis(participant(), CmdVelMessage::twist);
+}
+
+// nav2 on Kilted, or with enable_stamped_cmd_vel: true.
+TEST_F(Ros2Bridge, WithCmdVelStampedATwistStampedDrivesTheChassisFromReliableAndBestEffortWriters) {
+  start({"--cmd-vel-stamped"});
+  expect_cmd_vel_drives(participant(), Reliability::reliable, 1, CmdVelMessage::twist_stamped);
+  // The deadman in between: the next writer's drive is a new motion on the bus.
+  CanBus bus(integration::test_interface());
+  ASSERT_TRUE(bus.wait_for(is_zero_frame, 2s));
+  expect_cmd_vel_drives(participant(), Reliability::best_effort, 1, CmdVelMessage::twist_stamped);
+}
+
+TEST_F(Ros2Bridge, WhenStampedCmdVelStopsTheDeadmanStopsTheChassis) {
+  start({"--config", write_bridge_config({{"cmd_vel_stamped", true}})});
+  expect_the_deadman_stops_the_chassis(participant(), CmdVelMessage::twist_stamped);
+}
+
+TEST_F(Ros2Bridge, AStampedCmdVelWithANonFiniteValueIsDroppedAndAKilledBridgeStopsTheChassis) {
+  start({"--cmd-vel-stamped"});
+  CanBus bus(integration::test_interface());
+  CmdVelWriter writer(participant(), "rt/cmd_vel", Reliability::reliable, 10, CmdVelMessage::twist_stamped);
+  ASSERT_TRUE(writer.wait_matched(kMatchTimeout));
+  {
+    RepeatingPublisher bad(writer, make_twist(std::numeric_limits<double>::quiet_NaN(), 0.1, 0.5), kPublishPeriod);
+    const auto moving = bus.wait_for(integration::is_moving_control_frame, 500ms);
+    EXPECT_FALSE(moving) << "a TwistStamped with NaN drove the chassis: " << integration::to_text(moving->frame);
+  }
+  RepeatingPublisher controller(writer, kCmdVel, 20ms);
+  ASSERT_TRUE(bus.wait_for(is_cmd_vel_frame, 2s));
+  const auto killed = integration::WallClock::now();
+  kill_bridge();
+  const auto zero = bus.wait_for(is_zero_frame, 2s);
+  ASSERT_TRUE(zero) << "no zero frame after the bridge was killed";
+  EXPECT_LT(seconds_between(killed, zero->time), 0.25);
 }
 
 TEST_F(Ros2Bridge, AKilledBridgeStopsTheChassisAtOnce) {

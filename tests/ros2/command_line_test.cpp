@@ -38,8 +38,13 @@ TEST(Ros2CommandLine, HelpNamesEveryFlagAndVersionNamesTheProgram) {
   const auto help = run_bridge(directory, {"--help"});
   EXPECT_TRUE(help.status.exited_with(0)) << help.describe();
   for (const char* flag :
-       {"--config", "--socket", "--domain-id", "--localhost-only", "--namespace", "--no-tf", "--log-level"}) {
+       {"--config", "--socket", "--domain-id", "--localhost-only", "--namespace", "--no-tf", "--cmd-vel-stamped",
+        "--log-level"}) {
     EXPECT_NE(help.out.find(flag), std::string::npos) << flag << " missing in\n" << help.out;
+  }
+  // Which nav2 needs --cmd-vel-stamped.
+  for (const char* words : {"Jazzy", "Kilted", "TwistStamped"}) {
+    EXPECT_NE(help.out.find(words), std::string::npos) << words << " missing in\n" << help.out;
   }
   const auto version = run_bridge(directory, {"--version"});
   EXPECT_TRUE(version.status.exited_with(0)) << version.describe();
@@ -75,6 +80,19 @@ TEST(Ros2CommandLine, AnUnknownConfigKeyIsNamed) {
   expect_usage_error(directory, {"--config", path.string()}, "bass");
   std::ofstream(path) << R"({"domain_idd": 5})" << "\n";
   expect_usage_error(directory, {"--config", path.string()}, "domain_idd");
+}
+
+TEST(Ros2CommandLine, ABadBatteryConfigIsNamed) {
+  TestDirectory directory;
+  const auto path = directory / "wheeltec-ros2.json";
+  std::ofstream(path) << R"({"battery": {"empty_v": 12.6, "full_v": 10.5}})" << "\n";
+  expect_usage_error(directory, {"--config", path.string()}, "battery.full_v");
+  std::ofstream(path) << R"({"battery": {"technology": "lead-acid"}})" << "\n";
+  expect_usage_error(directory, {"--config", path.string()}, "battery.technology");
+  std::ofstream(path) << R"({"battery": {"empty_v": "10.5"}})" << "\n";
+  expect_usage_error(directory, {"--config", path.string()}, "battery.empty_v");
+  std::ofstream(path) << R"({"cmd_vel_stamped": 1})" << "\n";
+  expect_usage_error(directory, {"--config", path.string()}, "cmd_vel_stamped");
 }
 
 TEST(Ros2CommandLine, AMissingConfigFileIsNamed) {

@@ -1,5 +1,6 @@
 #include "ros2_bridge_fixture.hpp"
 
+#include <fstream>
 #include <iostream>
 #include <thread>
 
@@ -68,6 +69,23 @@ void Ros2Bridge::wait_ready() {
     if (SteadyClock::now() > deadline) throw std::runtime_error("the chassis is not ready: " + status.dump());
     std::this_thread::sleep_for(20ms);
   }
+}
+
+bool Ros2Bridge::wait_for_dock(const std::function<bool(const Json& dock)>& matches,
+                               std::chrono::milliseconds timeout) {
+  auto client = gateway().connect();
+  const auto deadline = SteadyClock::now() + timeout;
+  for (;;) {
+    if (matches(client.call("status")["dock"])) return true;
+    if (SteadyClock::now() > deadline) return false;
+    std::this_thread::sleep_for(20ms);
+  }
+}
+
+std::string Ros2Bridge::write_bridge_config(const Json& config) {
+  const auto path = dir() / "wheeltec-ros2.json";
+  std::ofstream(path) << config.dump(2) << "\n";
+  return path.string();
 }
 
 std::vector<Json> Ros2Bridge::record_telemetry(std::chrono::milliseconds duration) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -58,6 +59,10 @@ class Ros2Bridge : public integration::SharedGatewayTest {
   std::vector<Json> drive_and_record(const Json& velocity, std::chrono::milliseconds duration);
   // Waits until the daemon reports the chassis ready to drive.
   void wait_ready();
+  // Whether the daemon's status member `dock` satisfies `matches` within `timeout`.
+  bool wait_for_dock(const std::function<bool(const Json& dock)>& matches, std::chrono::milliseconds timeout);
+  // `config` as the bridge's config file in this test's directory, for --config.
+  std::string write_bridge_config(const Json& config);
 
  private:
   void start_bridge(const std::vector<std::string>& arguments,

@@ -10,6 +10,7 @@
 #include "every_profile.hpp"
 #include "nav_msgs/msg/OdometryPubSubTypes.h"
 #include "ros2_bridge_fixture.hpp"
+#include "sample_timing.hpp"
 #include "sensor_msgs/msg/ImuPubSubTypes.h"
 #include "std_msgs/msg/Float32PubSubTypes.h"
 #include "telemetry_expectations.hpp"
@@ -24,8 +25,6 @@ using ros2_side::WallClock;
 
 // Moving on all three axes the mecanum chassis has, so that no value compared is zero.
 const Json kDriving = {{"vx", 0.2}, {"vy", 0.1}, {"wz", 0.4}};
-// Once a second, give or take a loaded machine's scheduling.
-constexpr double kLongestGapS = 1.5;
 
 // Checks every sample stamped within the recording against the record with its stamp, and
 // returns how many there were.
@@ -63,28 +62,6 @@ void expect_the_chassis_moved(const std::vector<Json>& records) {
       << first.dump() << "\n" << last.dump();
   EXPECT_GT(last["velocity"]["vx"].get<double>(), 0.1) << last.dump();
   EXPECT_GT(last["gyro"]["z"].get<double>(), 0.1) << last.dump();
-}
-
-// The arrivals of the samples that came between `from` and `to`.
-template <class Message>
-std::vector<WallClock::time_point> arrivals_between(const std::vector<Received<Message>>& samples,
-                                                    WallClock::time_point from, WallClock::time_point to) {
-  std::vector<WallClock::time_point> arrivals;
-  for (const auto& sample : samples) {
-    if (sample.arrival >= from && sample.arrival <= to) arrivals.push_back(sample.arrival);
-  }
-  return arrivals;
-}
-
-double longest_gap_s(const std::vector<WallClock::time_point>& arrivals, WallClock::time_point from,
-                     WallClock::time_point to) {
-  double longest = 0;
-  auto previous = from;
-  for (const auto arrival : arrivals) {
-    longest = std::max(longest, std::chrono::duration<double>(arrival - previous).count());
-    previous = arrival;
-  }
-  return std::max(longest, std::chrono::duration<double>(to - previous).count());
 }
 
 // Each reader's samples stamped within the recording match their records, and there are
@@ -153,7 +130,7 @@ TEST_F(Ros2Bridge, PowerVoltageIsTheBatteryAtLeastOnceASecondWithEveryQosProfile
   for (const auto& [profile, reader] : readers) {
     SCOPED_TRACE("QoS profile " + to_string(profile));
     const auto samples = reader->samples();
-    EXPECT_LE(longest_gap_s(arrivals_between(samples, from, to), from, to), kLongestGapS);
+    EXPECT_LE(longest_gap_s(arrivals_between(samples, from, to), from, to), kOnceASecondLongestGapS);
     for (const auto& sample : samples) {
       if (sample.arrival < from || sample.arrival > to) continue;
       EXPECT_GE(sample.message.data(), lowest - 0.01);
@@ -175,7 +152,7 @@ TEST_F(Ros2Bridge, DiagnosticsShowTheReadyChassisOkOnceASecondWithEveryQosProfil
     const auto samples = reader->samples();
     const auto arrivals = arrivals_between(samples, from, to);
     ASSERT_GE(arrivals.size(), 2u);
-    EXPECT_LE(longest_gap_s(arrivals, from, to), kLongestGapS);
+    EXPECT_LE(longest_gap_s(arrivals, from, to), kOnceASecondLongestGapS);
     const double mean_period_s = std::chrono::duration<double>(arrivals.back() - arrivals.front()).count() /
                                  static_cast<double>(arrivals.size() - 1);
     EXPECT_GE(mean_period_s, 0.7) << "diagnostics are to come once a second";

@@ -1,8 +1,10 @@
 #include "ros2_side/cmd_vel_writer.hpp"
 
+#include <cstdint>
 #include <stdexcept>
 
 #include "geometry_msgs/msg/TwistPubSubTypes.h"
+#include "geometry_msgs/msg/TwistStampedPubSubTypes.h"
 
 namespace ros2_side {
 
@@ -16,9 +18,13 @@ geometry_msgs::msg::Twist make_twist(double vx, double vy, double wz) {
   return twist;
 }
 
-CmdVelWriter::CmdVelWriter(Participant& participant, const std::string& topic, Reliability reliability, int depth)
-    : participant_(participant) {
-  auto& dds_topic = participant.topic(topic, dds::TypeSupport(new geometry_msgs::msg::TwistPubSubType()));
+CmdVelWriter::CmdVelWriter(Participant& participant, const std::string& topic, Reliability reliability, int depth,
+                           CmdVelMessage message)
+    : participant_(participant), message_(message) {
+  dds::TypeSupport type(message == CmdVelMessage::twist_stamped
+                            ? static_cast<dds::TopicDataType*>(new geometry_msgs::msg::TwistStampedPubSubType())
+                            : new geometry_msgs::msg::TwistPubSubType());
+  auto& dds_topic = participant.topic(topic, type);
   writer_ = participant.publisher().create_datawriter(&dds_topic, writer_qos(reliability, depth), this);
   if (writer_ == nullptr) throw std::runtime_error("Fast DDS: cannot create a writer of " + topic);
 }
@@ -34,8 +40,22 @@ bool CmdVelWriter::wait_matched(std::chrono::milliseconds timeout) {
 }
 
 void CmdVelWriter::publish(const geometry_msgs::msg::Twist& twist) {
-  geometry_msgs::msg::Twist copy = twist;
-  if (!writer_->write(&copy)) throw std::runtime_error("Fast DDS: cmd_vel not written");
+  bool written = false;
+  if (message_ == CmdVelMessage::twist_stamped) {
+    geometry_msgs::msg::TwistStamped stamped;
+    const auto now = std::chrono::system_clock::now().time_since_epoch();
+    const auto whole = std::chrono::duration_cast<std::chrono::seconds>(now);
+    stamped.header().stamp().sec(static_cast<std::int32_t>(whole.count()));
+    stamped.header().stamp().nanosec(
+        static_cast<std::uint32_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(now - whole).count()));
+    stamped.header().frame_id("base_link");
+    stamped.twist(twist);
+    written = writer_->write(&stamped);
+  } else {
+    geometry_msgs::msg::Twist copy = twist;
+    written = writer_->write(&copy);
+  }
+  if (!written) throw std::runtime_error("Fast DDS: cmd_vel not written");
 }
 
 void CmdVelWriter::on_publication_matched(dds::DataWriter*, const dds::PublicationMatchedStatus& status) {

@@ -17,10 +17,16 @@ namespace ros2_side {
 
 geometry_msgs::msg::Twist make_twist(double vx, double vy, double wz);
 
-// A ROS 2 publisher of geometry_msgs/msg/Twist on `topic` ("rt/cmd_vel").
+// What a cmd_vel publisher sends: Twist (teleop, nav2 on Jazzy by default) or TwistStamped
+// (nav2 on Kilted, or enable_stamped_cmd_vel).
+enum class CmdVelMessage { twist, twist_stamped };
+
+// A ROS 2 publisher of cmd_vel on `topic` ("rt/cmd_vel"); as TwistStamped, each Twist goes
+// out with a header as nav2 stamps it (now, frame base_link).
 class CmdVelWriter : private eprosima::fastdds::dds::DataWriterListener {
  public:
-  CmdVelWriter(Participant& participant, const std::string& topic, Reliability reliability, int depth);
+  CmdVelWriter(Participant& participant, const std::string& topic, Reliability reliability, int depth,
+               CmdVelMessage message = CmdVelMessage::twist);
   ~CmdVelWriter() override;
   CmdVelWriter(const CmdVelWriter&) = delete;
   CmdVelWriter& operator=(const CmdVelWriter&) = delete;
@@ -34,6 +40,7 @@ class CmdVelWriter : private eprosima::fastdds::dds::DataWriterListener {
                               const eprosima::fastdds::dds::PublicationMatchedStatus& status) override;
 
   Participant& participant_;
+  CmdVelMessage message_;
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
   std::mutex mutex_;
   std::condition_variable matched_changed_;

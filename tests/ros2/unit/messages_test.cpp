@@ -102,6 +102,34 @@ TEST(Ros2Messages, TheTransformIsOdomToBase) {
   EXPECT_NEAR(transform.transform_.rotation_.z_, std::sqrt(0.5), 1e-12);
 }
 
+TEST(Ros2Messages, BatteryStateIsTheRecordsBatteryInTheBaseFrame) {
+  const Frames frames{"odom", "base_link", "gyro_link"};
+  BatteryConfig battery{11.0, 13.0, BatteryTechnology::lipo};
+  const auto discharging = battery_state_of(record(), false, frames, battery);
+  EXPECT_STREQ(discharging.header_.frame_id_, "base_link");
+  EXPECT_EQ(discharging.header_.stamp_.sec_, 1795552460);
+  EXPECT_NEAR(discharging.header_.stamp_.nanosec_, 482002000u, 1000);
+  EXPECT_FLOAT_EQ(discharging.voltage_, 12.1f);
+  EXPECT_FLOAT_EQ(discharging.percentage_, 0.55f);
+  EXPECT_EQ(discharging.power_supply_status_, 2);      // DISCHARGING
+  EXPECT_EQ(discharging.power_supply_health_, 0);      // UNKNOWN
+  EXPECT_EQ(discharging.power_supply_technology_, 3);  // LIPO
+  EXPECT_TRUE(discharging.present_);
+  for (float unmeasured : {discharging.current_, discharging.charge_, discharging.capacity_,
+                           discharging.design_capacity_, discharging.temperature_}) {
+    EXPECT_TRUE(std::isnan(unmeasured));
+  }
+  EXPECT_EQ(discharging.cell_voltage_._length, 0u);
+  EXPECT_EQ(discharging.cell_temperature_._length, 0u);
+  EXPECT_STREQ(discharging.location_, "");
+  EXPECT_STREQ(discharging.serial_number_, "");
+
+  EXPECT_EQ(battery_state_of(record(), true, frames, battery).power_supply_status_, 1);  // CHARGING
+  const auto unscaled = battery_state_of(record(), false, frames, BatteryConfig{});
+  EXPECT_TRUE(std::isnan(unscaled.percentage_));
+  EXPECT_EQ(unscaled.power_supply_technology_, 0);  // UNKNOWN
+}
+
 TEST(Ros2Messages, CmdVelDrivesThePlanarComponents) {
   geometry_msgs_msg_dds__Twist_ twist{{0.3, 0.1, 7.0}, {5.0, 6.0, -0.5}};
   const auto velocity = drive_of(twist);

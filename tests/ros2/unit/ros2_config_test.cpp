@@ -2,6 +2,9 @@
 
 #include "config_text.hpp"
 
+#include <limits>
+#include <utility>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -25,6 +28,10 @@ TEST(Ros2Config, DefaultsAreTheSpecs) {
   EXPECT_EQ(config.frames.base, "base_footprint");
   EXPECT_EQ(config.frames.imu, "gyro_link");
   EXPECT_EQ(config.log.level, "info");
+  EXPECT_FALSE(config.cmd_vel_stamped);
+  EXPECT_FALSE(config.battery.empty_v);
+  EXPECT_FALSE(config.battery.full_v);
+  EXPECT_EQ(config.battery.technology, BatteryTechnology::unknown);
 }
 
 TEST(Ros2Config, ReadsEveryKey) {
@@ -33,6 +40,7 @@ TEST(Ros2Config, ReadsEveryKey) {
     "publish_tf": false, "frames": {"odom": "odom_wheels", "base": "base_link", "imu": "imu_link"},
     "covariance": {"pose": [1, 2, 3, 4, 5, 6], "twist": [6, 5, 4, 3, 2, 1], "orientation": [0.1, 0.2, 0.3],
                    "angular_velocity": [0.4, 0.5, 0.6], "linear_acceleration": [0.7, 0.8, 0.9]},
+    "cmd_vel_stamped": true, "battery": {"empty_v": 20.0, "full_v": 25.2, "technology": "life"},
     "log": {"level": "debug"}})");
   EXPECT_EQ(config.socket, "/run/w.sock");
   EXPECT_EQ(config.domain_id, 42);
@@ -48,6 +56,74 @@ TEST(Ros2Config, ReadsEveryKey) {
   EXPECT_EQ(config.covariance.angular_velocity, (std::array<double, 3>{0.4, 0.5, 0.6}));
   EXPECT_EQ(config.covariance.linear_acceleration, (std::array<double, 3>{0.7, 0.8, 0.9}));
   EXPECT_EQ(config.log.level, "debug");
+  EXPECT_TRUE(config.cmd_vel_stamped);
+  EXPECT_EQ(config.battery.empty_v, 20.0);
+  EXPECT_EQ(config.battery.full_v, 25.2);
+  EXPECT_EQ(config.battery.technology, BatteryTechnology::life);
+}
+
+TEST(Ros2Config, EveryBatteryTechnologyIsRead) {
+  const std::pair<const char*, BatteryTechnology> names[] = {
+      {"unknown", BatteryTechnology::unknown}, {"nimh", BatteryTechnology::nimh}, {"lion", BatteryTechnology::lion},
+      {"lipo", BatteryTechnology::lipo},       {"life", BatteryTechnology::life}, {"nicd", BatteryTechnology::nicd},
+      {"limn", BatteryTechnology::limn}};
+  for (const auto& [name, technology] : names) {
+    EXPECT_EQ(parsed(std::string(R"({"battery": {"technology": ")") + name + "\"}}").battery.technology, technology)
+        << name;
+  }
+}
+
+TEST(Ros2Config, OneBatteryEndAloneIsAcceptedAndNullIsUnset) {
+  EXPECT_EQ(parsed(R"({"battery": {"full_v": 12.6}})").battery.full_v, 12.6);
+  EXPECT_FALSE(parsed(R"({"battery": {"full_v": 12.6}})").battery.empty_v);
+  EXPECT_FALSE(parsed(R"({"battery": {"empty_v": null, "full_v": null}})").battery.full_v);
+}
+
+TEST(Ros2Config, ABadBatteryKeyIsNamed) {
+  EXPECT_EQ(refused_key(R"({"battery": {"empty_v": "10"}})"), "battery.empty_v");
+  EXPECT_EQ(refused_key(R"({"battery": {"full_v": true}})"), "battery.full_v");
+  EXPECT_EQ(refused_key(R"({"battery": {"empty_v": 12.6, "full_v": 10.5}})"), "battery.full_v");
+  EXPECT_EQ(refused_key(R"({"battery": {"empty_v": 12, "full_v": 12}})"), "battery.full_v");
+  EXPECT_EQ(refused_key(R"({"battery": {"technology": "LiPo"}})"), "battery.technology");
+  EXPECT_EQ(refused_key(R"({"battery": {"technology": 3}})"), "battery.technology");
+  EXPECT_EQ(refused_key(R"({"battery": {"full": 12}})"), "battery.full");
+  EXPECT_EQ(refused_key(R"({"battery": 12})"), "battery");
+  EXPECT_EQ(refused_key(R"({"cmd_vel_stamped": "yes"})"), "cmd_vel_stamped");
+}
+
+TEST(Ros2Config, ANonFiniteBatteryVoltageIsNamed) {
+  // JSON has no such numbers (the parser refuses 1e400); the check guards the struct itself.
+  for (const double bad : {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()}) {
+    Ros2Config empty_bad;
+    empty_bad.battery = {bad, 12.6};
+    Ros2Config full_bad;
+    full_bad.battery = {10.5, bad};
+    for (const auto& [config, key] : {std::pair{empty_bad, "battery.empty_v"}, {full_bad, "battery.full_v"}}) {
+      try {
+        validate_ros2_config(config);
+        ADD_FAILURE() << key << " " << bad << " was accepted";
+      } catch (const ConfigError& error) {
+        EXPECT_EQ(error.key(), key);
+      }
+    }
+  }
+}
+
+TEST(Ros2Config, BatteryErrorsSayWhatIsExpected) {
+  try {
+    parsed(R"({"battery": {"empty_v": 12.6, "full_v": 10.5}})");
+    FAIL() << "accepted";
+  } catch (const ConfigError& error) {
+    EXPECT_NE(std::string(error.what()).find("battery.empty_v"), std::string::npos) << error.what();
+  }
+  try {
+    parsed(R"({"battery": {"technology": "lead"}})");
+    FAIL() << "accepted";
+  } catch (const ConfigError& error) {
+    EXPECT_NE(std::string(error.what()).find("lipo"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("lead"), std::string::npos) << error.what();
+  }
 }
 
 TEST(Ros2Config, ABadKeyIsNamed) {
