@@ -97,6 +97,38 @@ int run(int argc, char** argv) {
                   .description(""))
       ->type_name("SECONDS");
 
+  namespace command_line = wheeltec::command_line;
+  CalibrationRequest linear_calibration{wheeltec::calibration::Axis::linear, 1.0, 0.2, false};
+  CalibrationRequest angular_calibration{wheeltec::calibration::Axis::angular, 1.0, 0.5, false};
+  CLI::App* calibrate = app.add_subcommand(
+      "calibrate",
+      "Measure an odometry scale factor with a tape measure: drive straight (or turn) until\n"
+      "the odometry has gone the distance (or the turns), stop, ask what you measured, print\n"
+      "the factor to set (odometry.scale.x, yaw_positive or yaw_negative) and how to apply it.\n"
+      "It drives under the rules of drive; Ctrl-C stops the robot (exit 130); an empty answer\n"
+      "aborts (exit 1); it stops and fails when the odometry makes no progress for 3 s.");
+  calibrate->require_subcommand(1);
+  calibrate->fallthrough();
+  CLI::App* linear = calibrate->add_subcommand("linear", "Drive straight ahead; set odometry.scale.x");
+  linear->fallthrough();
+  linear->add_option("--distance", linear_calibration.distance_or_turns, "Metres of odometry to drive (default 1.0, up to 100)")
+      ->check(command_line::finite_in(0.0, 100.0, command_line::LowBound::exclusive).description(""))
+      ->type_name("M");
+  linear->add_option("--speed", linear_calibration.speed, "m/s, 0.02 to 1.0 (default 0.2)")
+      ->check(command_line::finite_in(0.02, 1.0).description(""))
+      ->type_name("V");
+  CLI::App* angular = calibrate->add_subcommand(
+      "angular", "Turn on the spot; counter-clockwise sets odometry.scale.yaw_positive,\n"
+                 "clockwise (--reverse) sets odometry.scale.yaw_negative");
+  angular->fallthrough();
+  angular->add_option("--turns", angular_calibration.distance_or_turns, "Turns of odometry (default 1, up to 100)")
+      ->check(command_line::finite_in(0.0, 100.0, command_line::LowBound::exclusive).description(""))
+      ->type_name("N");
+  angular->add_option("--speed", angular_calibration.speed, "rad/s, 0.05 to 3.0 (default 0.5)")
+      ->check(command_line::finite_in(0.05, 3.0).description(""))
+      ->type_name("W");
+  angular->add_flag("--reverse", angular_calibration.reverse, "Turn clockwise");
+
   if (const std::optional<int> exit_code = wheeltec::command_line::parse(app, argc, argv)) return *exit_code;
 
   GlobalOptions options;
@@ -124,6 +156,9 @@ int run(int argc, char** argv) {
     return run_drive(options, std::get<wheeltec::Velocity>(velocity), drive_seconds);
   }
   if (name == "teleop") return run_teleop(options, hold_seconds);
+  if (name == "calibrate") {
+    return run_calibrate(options, linear->parsed() ? linear_calibration : angular_calibration);
+  }
   return run_action(options, name == "reset-odometry" ? std::string("reset_odometry") : name);
 }
 

@@ -24,10 +24,6 @@ constexpr std::size_t kIfNameSize = 16;   // IFNAMSIZ, including the terminating
 constexpr std::uint32_t kMaxMode = 0777;
 constexpr int kMinClients = 1;
 constexpr int kMaxClients = 1024;
-// A wheel more than twice or less than half the size the firmware assumes is a wrong
-// chassis type or a typo, not a tolerance.
-constexpr double kMinScale = 0.5;
-constexpr double kMaxScale = 2.0;
 
 // Deeper than any config file: refused before the document is walked.
 constexpr int kMaxDepth = 16;
@@ -208,10 +204,10 @@ void validate_config(const GatewayConfig& c) {
   check_half_open(c.telemetry.timeout_s, 0, 60, "telemetry.timeout_s");
   check_closed(c.telemetry.low_battery_v, 0, 100, "telemetry.low_battery_v");
 
-  check_closed(c.odometry.scale.x, kMinScale, kMaxScale, "odometry.scale.x");
-  check_closed(c.odometry.scale.y, kMinScale, kMaxScale, "odometry.scale.y");
-  check_closed(c.odometry.scale.yaw_positive, kMinScale, kMaxScale, "odometry.scale.yaw_positive");
-  check_closed(c.odometry.scale.yaw_negative, kMinScale, kMaxScale, "odometry.scale.yaw_negative");
+  check_closed(c.odometry.scale.x, kMinOdometryScale, kMaxOdometryScale, "odometry.scale.x");
+  check_closed(c.odometry.scale.y, kMinOdometryScale, kMaxOdometryScale, "odometry.scale.y");
+  check_closed(c.odometry.scale.yaw_positive, kMinOdometryScale, kMaxOdometryScale, "odometry.scale.yaw_positive");
+  check_closed(c.odometry.scale.yaw_negative, kMinOdometryScale, kMaxOdometryScale, "odometry.scale.yaw_negative");
 
   config_checks::check_socket_path(c.api.socket, "api.socket");
   if (c.api.socket.front() != '/') fail("api.socket", fmt::format("must be an absolute path, got \"{}\"", c.api.socket));

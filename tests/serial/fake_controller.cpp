@@ -188,7 +188,14 @@ wheeltec::RawTelemetry FakeController::telemetry() const {
 void FakeController::telemetry_loop(std::chrono::milliseconds period) {
   auto next = SteadyClock::now();
   while (!stop_telemetry_) {
-    const Bytes record = record_bytes(telemetry());
+    wheeltec::RawTelemetry raw = telemetry();
+    if (follow_commands_) {
+      std::lock_guard lock(mutex_);
+      raw.vx = last_command_ ? last_command_->x : 0;
+      raw.vy = last_command_ ? last_command_->y : 0;
+      raw.vz = last_command_ ? last_command_->z : 0;
+    }
+    const Bytes record = record_bytes(raw);
     try {
       std::lock_guard lock(write_mutex_);
       write_locked(record.data(), record.size(), std::chrono::milliseconds(200));
@@ -282,6 +289,7 @@ void FakeController::parse(const std::uint8_t* data, std::size_t size, SteadyClo
       seen.x = be16(&window_[3]);
       seen.y = be16(&window_[5]);
       seen.z = be16(&window_[7]);
+      if (seen.well_formed) last_command_ = seen;
       commands_.push_back(seen);
     }
   }

@@ -76,6 +76,10 @@ class FakeController {
   void set_telemetry(const wheeltec::RawTelemetry& raw);
   wheeltec::RawTelemetry telemetry() const;
   std::uint64_t records_sent() const { return records_sent_; }
+  // From now on the background records' measured velocities (vx, vy, vz) are the last
+  // well-formed command's X, Y, Z: a chassis whose wheels do exactly what they are told,
+  // so that the daemon's odometry is known. The rest of the record is telemetry()'s.
+  void follow_commands(bool follow = true) { follow_commands_ = follow; }
 
   // What the daemon wrote.
   std::vector<CommandSeen> commands() const;
@@ -128,6 +132,8 @@ class FakeController {
 
   std::atomic<bool> stop_reader_{false};
   std::thread reader_;
+  std::atomic<bool> follow_commands_{false};
+  std::optional<CommandSeen> last_command_;  // the last well-formed one; guarded by mutex_
   std::atomic<bool> stop_telemetry_{false};
   std::thread telemetry_thread_;
   std::optional<std::chrono::milliseconds> telemetry_period_;

@@ -19,6 +19,11 @@ struct OdometryScale {
   friend bool operator==(const OdometryScale&, const OdometryScale&) = default;
 };
 
+// The factors wheeltecd accepts: a wheel more than twice or less than half the size the
+// firmware assumes is a wrong chassis type or a typo, not a tolerance.
+inline constexpr double kMinOdometryScale = 0.5;
+inline constexpr double kMaxOdometryScale = 2.0;
+
 // The measured velocity as the floor sees it; commands are never scaled.
 Velocity scaled(const Velocity& measured, const OdometryScale& scale);
 
