@@ -4,6 +4,7 @@
 // it, another client holding control.
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <thread>
 
@@ -64,6 +65,15 @@ TEST_F(Ros2Bridge, BestEffortCmdVelDrivesTheChassis) {
 }
 
 // nav2's controller publishing at its rate, then stopping: the daemon's deadman stops the chassis.
+// The closed connection stops the chassis, well before the deadman would.
+void expect_a_zero_frame_at_once_after(CanBus& bus, const std::function<void()>& kill_the_bridge) {
+  const auto killed = integration::WallClock::now();
+  kill_the_bridge();
+  const auto zero = bus.wait_for(is_zero_frame, 2s);
+  ASSERT_TRUE(zero) << "no zero frame after the bridge was killed";
+  EXPECT_LT(seconds_between(killed, zero->time), 0.25);
+}
+
 void expect_the_deadman_stops_the_chassis(ros2_side::Participant& participant, CmdVelMessage message) {
   CanBus bus(integration::test_interface());
   CmdVelWriter writer(participant, "rt/cmd_vel", Reliability::reliable, 1, message);
@@ -109,11 +119,7 @@ TEST_F(Ros2Bridge, AStampedCmdVelWithANonFiniteValueIsDroppedAndAKilledBridgeSto
   }
   RepeatingPublisher controller(writer, kCmdVel, 20ms);
   ASSERT_TRUE(bus.wait_for(is_cmd_vel_frame, 2s));
-  const auto killed = integration::WallClock::now();
-  kill_bridge();
-  const auto zero = bus.wait_for(is_zero_frame, 2s);
-  ASSERT_TRUE(zero) << "no zero frame after the bridge was killed";
-  EXPECT_LT(seconds_between(killed, zero->time), 0.25);
+  expect_a_zero_frame_at_once_after(bus, [this] { kill_bridge(); });
 }
 
 TEST_F(Ros2Bridge, AKilledBridgeStopsTheChassisAtOnce) {
@@ -125,11 +131,7 @@ TEST_F(Ros2Bridge, AKilledBridgeStopsTheChassisAtOnce) {
   // only the closed connection stops it sooner.
   RepeatingPublisher controller(writer, kCmdVel, 20ms);
   ASSERT_TRUE(bus.wait_for(is_cmd_vel_frame, 2s));
-  const auto killed = integration::WallClock::now();
-  kill_bridge();
-  const auto zero = bus.wait_for(is_zero_frame, 2s);
-  ASSERT_TRUE(zero) << "no zero frame after the bridge was killed";
-  EXPECT_LT(seconds_between(killed, zero->time), 0.25);
+  expect_a_zero_frame_at_once_after(bus, [this] { kill_bridge(); });
   EXPECT_TRUE(bus.collect(integration::is_moving_control_frame, 500ms).empty()) << "motion resumed after the bridge was killed";
 }
 
