@@ -213,6 +213,14 @@ std::string format_status(const Json& status) {
   if (const Json* dock = find_member(status, "dock")) text += fmt::format("dock:     {}\n", dock_text(*dock));
   text += fmt::format("control:  {}\n", control_text(control));
   text += fmt::format("target:   {}\n", velocity_text(member_or_null(control, "target")));
+  // Daemons before the odometry scale have no such member.
+  if (const Json* odometry = find_member(status, "odometry")) {
+    const Json& scale = member_or_null(*odometry, "scale");
+    text += fmt::format("odometry: scale x {} y {} yaw_positive {} yaw_negative {}\n",
+                        number_text(member_or_null(scale, "x"), 3), number_text(member_or_null(scale, "y"), 3),
+                        number_text(member_or_null(scale, "yaw_positive"), 3),
+                        number_text(member_or_null(scale, "yaw_negative"), 3));
+  }
   return text;
 }
 

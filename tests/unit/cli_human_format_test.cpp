@@ -39,6 +39,14 @@ TEST(CliHumanFormat, StatusBlockShowsEveryPart) {
             "target:   vx=0.200 vy=0.000 wz=0.500\n");
 }
 
+TEST(CliHumanFormat, StatusShowsTheOdometryScaleWhenTheDaemonReportsIt) {
+  Json status = spec_status();
+  status["odometry"] = Json::parse(R"({"scale": {"x": 0.973, "y": 1.0, "yaw_positive": 1.05, "yaw_negative": 0.98}})");
+  const std::string text = format_status(status);
+  EXPECT_NE(text.find("odometry: scale x 0.973 y 1.000 yaw_positive 1.050 yaw_negative 0.980\n"), std::string::npos)
+      << text;
+}
+
 TEST(CliHumanFormat, StatusOfOfflineChassisWithoutBatteryAndNoOwner) {
   Json status = spec_status();
   status["bus"]["state"] = "down";
