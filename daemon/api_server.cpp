@@ -82,26 +82,18 @@ void ApiServer::close() {
   if (socket_file_) socket_file_->remove();
 }
 
-bool ApiServer::has_telemetry_subscribers() const {
+bool ApiServer::any_session_wants(bool ClientState::*topic) const {
   for (const auto& [id, session] : sessions_) {
-    if (session->state().wants_telemetry) return true;
+    if (session->state().*topic) return true;
   }
   return false;
 }
 
-bool ApiServer::has_status_subscribers() const {
-  for (const auto& [id, session] : sessions_) {
-    if (session->state().wants_status) return true;
-  }
-  return false;
-}
+bool ApiServer::has_telemetry_subscribers() const { return any_session_wants(&ClientState::wants_telemetry); }
 
-bool ApiServer::has_event_subscribers() const {
-  for (const auto& [id, session] : sessions_) {
-    if (session->state().wants_events) return true;
-  }
-  return false;
-}
+bool ApiServer::has_status_subscribers() const { return any_session_wants(&ClientState::wants_status); }
+
+bool ApiServer::has_event_subscribers() const { return any_session_wants(&ClientState::wants_events); }
 
 void ApiServer::queue_telemetry(const TelemetrySample& sample) {
   if (!has_telemetry_subscribers()) return;

@@ -64,6 +64,7 @@ class ApiServer {
 
  private:
   bool has_telemetry_subscribers() const;
+  bool any_session_wants(bool ClientState::*topic) const;
   void accept();
   void on_accept(const boost::system::error_code& error, boost::asio::local::stream_protocol::socket socket);
   void refuse_client(boost::asio::local::stream_protocol::socket socket);
