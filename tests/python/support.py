@@ -22,12 +22,15 @@ REPO_ROOT = Path(__file__).resolve().parents[2]
 
 
 def program(name: str, variable: str) -> str:
-    """The program under test: $VARIABLE, else $WHEELTEC_BIN_DIR/<dir>/name, else build/."""
+    """The program under test: $WHEELTEC_BIN_DIR/NAME (one directory with all programs, such
+    as /usr/bin, as for the other suites), else $VARIABLE (ctest passes the build's), else
+    this tree's build/."""
+    if os.environ.get("WHEELTEC_BIN_DIR"):
+        return str(Path(os.environ["WHEELTEC_BIN_DIR"]) / name)
     if os.environ.get(variable):
         return os.environ[variable]
-    subdir = {"wheeltecd": "daemon", "wheeltec-emu": "emulator", "wheeltecctl": "cli"}[name]
-    base = Path(os.environ.get("WHEELTEC_BIN_DIR", REPO_ROOT / "build"))
-    return str(base / subdir / name)
+    subdir = {"wheeltecd": "daemon", "wheeltec-emu": "emulator"}[name]
+    return str(REPO_ROOT / "build" / subdir / name)
 
 
 def wait_for(predicate: Callable[[], Any], timeout: float, what: str, interval: float = 0.02) -> Any:
@@ -260,3 +263,25 @@ class FakeController:
                                                   _int16(window[7], window[8]), ok))
                         window.clear()
                 self._changed.notify_all()
+
+
+def run_as_nobody(script: str, socket_path: str, package_parent: Path) -> Dict[str, Any]:
+    """Runs ``script`` (which prints one JSON object) as the user nobody with the package
+    copied under ``package_parent`` (a directory every user can read) on its path, and
+    returns what it printed. The interpreter is this one when nobody may run it (not one
+    under /root), else the system's."""
+    import sys
+    package = package_parent / "package"
+    if not package.exists():
+        import wheeltec
+        shutil.copytree(Path(wheeltec.__file__).parent, package / "wheeltec")
+    prefix = ["setpriv", "--reuid=nobody", "--regid=nogroup", "--clear-groups", "--"]
+    python = sys.executable
+    if subprocess.run(prefix + [python, "-c", "pass"], capture_output=True, cwd="/").returncode != 0:
+        python = "/usr/bin/python3"
+    run = subprocess.run(prefix + [python, "-c", script, socket_path],
+                         env={"PYTHONPATH": str(package), "PATH": os.environ.get("PATH", "")},
+                         capture_output=True, text=True, timeout=30, cwd="/")
+    assert run.returncode == 0, run.stderr
+    result: Dict[str, Any] = json.loads(run.stdout)
+    return result

@@ -3,12 +3,8 @@ daemon gives, as the exception of its code."""
 from __future__ import annotations
 
 import builtins
-import json
 import math
-import os
 import shutil
-import subprocess
-import sys
 import threading
 import time
 from pathlib import Path
@@ -17,8 +13,8 @@ from typing import Any, Dict, Iterator
 import pytest
 
 import wheeltec
-from conftest import QUICK_BOOT, Rig, daemon_protocol, elapsed, raw_call
-from support import wait_for
+from conftest import Rig, daemon_protocol, elapsed, raw_call
+from support import run_as_nobody, wait_for
 
 
 @pytest.fixture(scope="module")
@@ -235,10 +231,6 @@ def test_calls_from_several_threads(robot: wheeltec.Client) -> None:
 def test_not_permitted_for_an_unprivileged_user(rig: Rig) -> None:
     if shutil.which("setpriv") is None:
         pytest.skip("setpriv (util-linux) is not installed")
-    # The package, where the user nobody can read it.
-    package = rig.directory.path / "package"
-    if not package.exists():
-        shutil.copytree(Path(wheeltec.__file__).parent, package / "wheeltec")
     script = """
 import json, sys, wheeltec
 outcome = {}
@@ -255,12 +247,7 @@ with wheeltec.Client(sys.argv[1]) as robot:
             outcome[name] = type(error).__name__
 print(json.dumps(outcome))
 """
-    run = subprocess.run(["setpriv", "--reuid=nobody", "--regid=nogroup", "--clear-groups", "--",
-                          sys.executable, "-c", script, rig.socket],
-                         env={"PYTHONPATH": str(package), "PATH": os.environ.get("PATH", "")},
-                         capture_output=True, text=True, timeout=30, cwd="/")
-    assert run.returncode == 0, run.stderr
-    outcome = json.loads(run.stdout)
+    outcome = run_as_nobody(script, rig.socket, rig.directory.path)
     assert outcome["status"] == "ready" and outcome["stop"] == "ok"
     assert outcome["drive"] == outcome["enable"] == outcome["disable"] == "NotPermitted"
     assert outcome["release"] == ("NotPermitted" if daemon_protocol() >= 5 else "MethodNotFound")

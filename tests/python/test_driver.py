@@ -10,7 +10,7 @@ import pytest
 
 import wheeltec
 from conftest import Rig, elapsed
-from support import FakeController, Frame, wait_for
+from support import FakeController, Frame
 
 DEADMAN_S = 0.5
 

@@ -3,20 +3,15 @@ EmergencyStopLatched, status.safety and the events, with the frames the controll
 from __future__ import annotations
 
 import asyncio
-import json
-import os
 import shutil
-import subprocess
-import sys
 import time
-from pathlib import Path
 from typing import Iterator, List
 
 import pytest
 
 import wheeltec
 from conftest import Rig, daemon_protocol
-from support import FakeController, Frame
+from support import FakeController, Frame, run_as_nobody
 
 pytestmark = pytest.mark.skipif(daemon_protocol() < 5, reason=(
     f"the wheeltecd under test speaks protocol {daemon_protocol()}: estop and release (protocol 5) are not there yet"))
@@ -149,9 +144,6 @@ def test_estop_and_release_on_asyncio(rig: Rig) -> None:
 def test_anyone_may_estop_but_not_release(rig: Rig) -> None:
     if shutil.which("setpriv") is None:
         pytest.skip("setpriv (util-linux) is not installed")
-    package = rig.directory.path / "package"
-    if not package.exists():
-        shutil.copytree(Path(wheeltec.__file__).parent, package / "wheeltec")
     script = """
 import json, sys, wheeltec
 outcome = {}
@@ -165,12 +157,7 @@ with wheeltec.Client(sys.argv[1]) as robot:
         outcome["release"] = type(error).__name__
 print(json.dumps(outcome))
 """
-    run = subprocess.run(["setpriv", "--reuid=nobody", "--regid=nogroup", "--clear-groups", "--",
-                          sys.executable, "-c", script, rig.socket],
-                         env={"PYTHONPATH": str(package), "PATH": os.environ.get("PATH", "")},
-                         capture_output=True, text=True, timeout=30, cwd="/")
-    assert run.returncode == 0, run.stderr
-    assert json.loads(run.stdout) == {"latched": True, "release": "NotPermitted"}
+    assert run_as_nobody(script, rig.socket, rig.directory.path) == {"latched": True, "release": "NotPermitted"}
     with rig.client() as root:
         assert root.status().safety.reason == "from nobody"
         root.release()
