@@ -414,7 +414,10 @@ class Subscription(Generic[R]):
         await self.close()
 
     def __del__(self) -> None:
-        self._close_now()
+        try:
+            self._close_now()
+        except Exception:  # a loop that is gone, or the interpreter exiting
+            pass
 
     @property
     def closed(self) -> bool:

@@ -309,7 +309,10 @@ class Subscription(Generic[R]):
         self.close()
 
     def __del__(self) -> None:
-        self.close()
+        try:
+            self.close()
+        except Exception:  # at interpreter exit the socket module may be gone already
+            pass
 
     @property
     def closed(self) -> bool:
