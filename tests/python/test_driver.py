@@ -71,18 +71,18 @@ def test_driver_holds_the_target_past_the_deadman_and_stops_on_exit(robot: wheel
         exit_time = time.monotonic()
     assert len(held) >= 20  # 20 Hz for 1.5 s
     assert all((f.x, f.y, f.z) == (200, 0, 500) and f.well_formed for f in held), held
-    assert wait_zero_frame(fake, exit_time) < 0.1  # the stop, at once
+    assert wait_zero_frame(fake, exit_time) < 0.2  # the stop, not the deadman's 0.5 s
     assert robot.status().control.owner is None
 
 
 def test_set_changes_the_target_at_once(robot: wheeltec.Client, fake: FakeController) -> None:
-    with robot.driver() as drive:
+    with robot.driver(period=0.4) as drive:  # a repeat would come up to 0.4 s later
         drive.set(vx=0.1)
         time.sleep(0.2)
         changed = time.monotonic()
         drive.set(vx=-0.3, vy=0.1)
         index = fake.wait_frame(lambda f: f.time >= changed and f.x == -300, 1.0)
-        assert index is not None and fake.frames()[index].time - changed < 0.03
+        assert index is not None and fake.frames()[index].time - changed < 0.15
         assert fake.frames()[index].y == 100  # mecanum: sideways allowed
 
 
@@ -93,7 +93,7 @@ def test_an_exception_in_the_block_stops_the_robot(robot: wheeltec.Client, fake:
             time.sleep(0.2)
             raised = time.monotonic()
             raise KeyError("the script's own bug")
-    assert wait_zero_frame(fake, raised) < 0.1
+    assert wait_zero_frame(fake, raised) < 0.2
     assert robot.status().control.owner is None
 
 
@@ -158,7 +158,7 @@ def test_drive_for(robot: wheeltec.Client, fake: FakeController) -> None:
     assert result.vx == 0.15 and 0.75 < took < 1.3
     moving = [f for f in frames_between(fake, start, start + took) if f.x == 150]
     assert moving and moving[-1].time - moving[0].time > 0.7  # held past the deadman
-    assert wait_zero_frame(fake, moving[-1].time) < 0.1
+    assert wait_zero_frame(fake, moving[-1].time) < 0.2
 
 
 def test_a_driver_is_used_in_one_block(robot: wheeltec.Client) -> None:

@@ -59,7 +59,7 @@ def test_estop_latches_until_release(robot: wheeltec.Client, rig: Rig, fake: Fak
         pressed = time.monotonic()
         assert robot.estop("operator pressed E-STOP") is None
         zero = fake.wait_frame(lambda f: f.time >= pressed and f.zero, 0.5)
-        assert zero is not None and fake.frames()[zero].time - pressed < 0.1
+        assert zero is not None and fake.frames()[zero].time - pressed < 0.2
 
         safety = robot.status().safety
         assert (safety.latched, safety.source, safety.reason, safety.by) == (True, "client", "operator pressed E-STOP", me)
@@ -121,7 +121,7 @@ def test_a_driver_refused_by_the_latch(robot: wheeltec.Client, rig: Rig, fake: F
             pressed = time.monotonic()
             operator.estop("operator")
         zero = fake.wait_frame(lambda f: f.time >= pressed and f.zero, 0.5)
-        assert zero is not None and fake.frames()[zero].time - pressed < 0.1
+        assert zero is not None and fake.frames()[zero].time - pressed < 0.2
         time.sleep(0.3)
         with pytest.raises(wheeltec.EmergencyStopLatched) as refused:
             drive.set(vx=0.2)
