@@ -19,7 +19,7 @@ import pytest
 sys.path.insert(0, os.environ.get("WHEELTEC_PYTHON_DIR") or str(Path(__file__).resolve().parents[2] / "python"))
 
 import wheeltec  # noqa: E402
-from support import Daemon, Emulator, FakeController, TestDirectory, wait_for  # noqa: E402
+from support import START_ALLOWANCE_S, Daemon, Emulator, FakeController, TestDirectory, wait_for  # noqa: E402
 
 # The emulator's controller, ready soon: 0.3 s of boot, no self-test drive (the daemon's
 # self-test phase still lasts 0.4 s).
@@ -43,7 +43,7 @@ class Rig:
                 self.emulator = Emulator(self.directory.path, self.link, *emulator)
             self.daemon = Daemon(self.directory.path, self.link, config)
             if ready:
-                self.wait_status(lambda s: s.chassis.phase == "ready", 10, "chassis ready")
+                self.wait_status(lambda s: s.chassis.phase == "ready", 10 + START_ALLOWANCE_S, "chassis ready")
         except BaseException:
             self.close()
             raise

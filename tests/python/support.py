@@ -19,6 +19,8 @@ from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Sequence
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
+# Extra seconds for a program to start (a slow host, valgrind), as for the other suites.
+START_ALLOWANCE_S = float(os.environ.get("WHEELTEC_TEST_START_ALLOWANCE_S") or 0)
 
 
 def program(name: str, variable: str) -> str:
@@ -127,7 +129,7 @@ class Daemon(Process):
         self.config_path.write_text(json.dumps(settings, indent=2))
         super().__init__(name, [program("wheeltecd", "WHEELTECD"), "--config", str(self.config_path),
                                 "--serial", str(link), "--socket", str(self.socket_path)], directory)
-        wait_for(self._listening, 10, f"{name}'s socket {self.socket_path}")
+        wait_for(self._listening, 10 + START_ALLOWANCE_S, f"{name}'s socket {self.socket_path}")
 
     def _listening(self) -> bool:
         if not self.running():
