@@ -114,15 +114,16 @@ finally:
 PY
 
 # The serial-link benchmark's quick mode (a few seconds, natively on a pseudo-terminal): both
-# latencies must have samples.
+# latencies and the emergency stop's must have samples.
 "$BUILD_DIR/bench/wheeltec-bench-serial" --quick --wheeltecd "$BUILD_DIR/daemon/wheeltecd" --json "$serial" >/dev/null
 python3 - "$serial" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))["wheeltecd"]
 drives, records = d["command_latency"]["count"], d["telemetry_latency_1"]["count"]
-if not (drives and records):
-    sys.exit(f"bench smoke: the serial benchmark timed {drives} drives and {records} records")
-print(f"bench smoke: serial benchmark ran ({drives} drives and {records} records timed, "
+estops = d["estop_latency"]["count"]
+if not (drives and records and estops):
+    sys.exit(f"bench smoke: the serial benchmark timed {drives} drives, {records} records and {estops} estops")
+print(f"bench smoke: serial benchmark ran ({drives} drives, {estops} estops and {records} records timed, "
       f"{d['telemetry_latency_1']['lost']} records lost)")
 PY
 
