@@ -23,6 +23,7 @@ class CanChassisLink : public ChassisLink {
   void send_enable(bool enable) override;
   bool refreshes_enable() const override { return dialect_ == Dialect::manual; }
   BusState state() const override { return link_.state(); }
+  std::optional<LinkDownCause> down_cause() const override { return link_.down_cause(); }
   Transport transport() const override { return Transport::can; }
   const std::string& name() const override { return link_.interface(); }
   StallSentinel::ZeroFrame zero_frame() const override;

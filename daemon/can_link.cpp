@@ -57,9 +57,7 @@ void enlarge_receive_buffer(asio_can::raw_protocol::socket& socket, const std::s
 CanLink::CanLink(boost::asio::io_context& io, std::string interface, std::chrono::milliseconds retry_interval,
                  std::chrono::milliseconds max_retry_interval)
     : interface_(std::move(interface)),
-      retry_interval_(retry_interval),
-      max_retry_interval_(std::max(max_retry_interval, retry_interval)),
-      retry_delay_(retry_interval),
+      recovery_(RetryPolicy{retry_interval, std::max(max_retry_interval, retry_interval)}),
       socket_(io),
       reader_(socket_,
               [this](std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec) {
@@ -124,16 +122,16 @@ bool CanLink::try_open() {
   boost::system::error_code ec;
   const int ifindex = asio_can::interface_index(interface_, ec);
   if (ifindex == 0) {
-    note_down_cause(DownCause::absent, "interface absent", ec);
+    note_down_cause(LinkDownCause::absent, "interface absent", ec);
     return false;
   }
 
   socket_.open(asio_can::raw_protocol{}, ec);
   if (ec) {
-    note_down_cause(DownCause::open_failed, "cannot open a CAN socket", ec);
+    note_down_cause(LinkDownCause::open_failed, "cannot open a CAN socket", ec);
     return false;
   }
-  const auto fail = [&](DownCause cause, const char* what) {
+  const auto fail = [&](LinkDownCause cause, const char* what) {
     note_down_cause(cause, what, ec);
     boost::system::error_code ignored;
     socket_.close(ignored);
@@ -141,41 +139,38 @@ bool CanLink::try_open() {
   };
 
   const bool up = asio_can::interface_is_up(socket_, interface_, ec);
-  if (ec) return fail(DownCause::open_failed, "cannot read interface flags");
-  if (!up) return fail(DownCause::not_up, "interface down");
+  if (ec) return fail(LinkDownCause::open_failed, "cannot read interface flags");
+  if (!up) return fail(LinkDownCause::not_up, "interface down");
 
   socket_.set_option(telemetry_filters(), ec);
-  if (ec) return fail(DownCause::open_failed, "cannot set CAN filters");
+  if (ec) return fail(LinkDownCause::open_failed, "cannot set CAN filters");
   socket_.set_option(asio_can::option::error_mask(static_cast<int>(CAN_ERR_MASK)), ec);
-  if (ec) return fail(DownCause::open_failed, "cannot set CAN error mask");
+  if (ec) return fail(LinkDownCause::open_failed, "cannot set CAN error mask");
   socket_.set_option(asio_can::option::timestamp_ns(true), ec);
-  if (ec) return fail(DownCause::open_failed, "cannot enable receive timestamps");
+  if (ec) return fail(LinkDownCause::open_failed, "cannot enable receive timestamps");
   socket_.bind(asio_can::endpoint(ifindex), ec);
-  if (ec) return fail(DownCause::open_failed, "cannot bind to the interface");
+  if (ec) return fail(LinkDownCause::open_failed, "cannot bind to the interface");
   socket_.non_blocking(true, ec);
-  if (ec) return fail(DownCause::open_failed, "cannot make the socket non-blocking");
+  if (ec) return fail(LinkDownCause::open_failed, "cannot make the socket non-blocking");
   enlarge_receive_buffer(socket_, interface_);
 
   ++counters_.reopens;
   ++generation_;
   ifindex_ = ifindex;
-  retry_delay_ = retry_interval_;
+  recovery_.opened();
   retry_timer_.cancel();
-  down_cause_ = DownCause::none;
   failed_sends_in_row_ = 0;
   set_state(BusState::up);
   reader_.start();  // frames queued already are read on the next turn
   return true;
 }
 
-void CanLink::note_down_cause(DownCause cause, const char* what, const boost::system::error_code& ec) {
-  const bool repeated = cause == down_cause_;
-  down_cause_ = cause;
-  const auto level = repeated ? spdlog::level::debug : spdlog::level::warn;
+void CanLink::note_down_cause(LinkDownCause cause, const char* what, const boost::system::error_code& ec) {
+  const auto level = recovery_.down(cause) ? spdlog::level::warn : spdlog::level::debug;
   const auto retry_s = [](std::chrono::milliseconds interval) { return std::chrono::duration<double>(interval).count(); };
   const std::string reason = ec ? fmt::format("{}: {}", what, ec.message()) : std::string(what);
   spdlog::log(level, "CAN {}: {}; reopening when rtnetlink reports it up, else retrying every {:g} to {:g} s",
-              interface_, reason, retry_s(retry_interval_), retry_s(max_retry_interval_));
+              interface_, reason, retry_s(recovery_.policy().first), retry_s(recovery_.policy().max));
 }
 
 void CanLink::go_down(const boost::system::error_code& ec) {
@@ -183,11 +178,11 @@ void CanLink::go_down(const boost::system::error_code& ec) {
   socket_.close(ignored);
   ++generation_;
   if (ec == boost::asio::error::no_such_device) {
-    down_cause_ = DownCause::absent;
+    recovery_.down(LinkDownCause::absent);
   } else if (ec == boost::asio::error::network_down) {
-    down_cause_ = DownCause::not_up;
+    recovery_.down(LinkDownCause::not_up);
   } else {
-    down_cause_ = DownCause::socket_error;
+    recovery_.down(LinkDownCause::io_error);
   }
   spdlog::warn("CAN {}: {}; reopening when it is back", interface_, ec.message());
   set_state(BusState::down);
@@ -196,8 +191,7 @@ void CanLink::go_down(const boost::system::error_code& ec) {
 
 void CanLink::schedule_retry() {
   if (!running_) return;
-  retry_timer_.expires_after(retry_delay_);
-  retry_delay_ = std::min(retry_delay_ * 2, max_retry_interval_);
+  retry_timer_.expires_after(recovery_.next_retry());
   retry_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec == boost::asio::error::operation_aborted || !running_ || socket_.is_open()) return;
     if (!try_open()) schedule_retry();

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -16,6 +17,7 @@
 #include "wheeltec/bus_state.hpp"
 #include "wheeltec/can_frame.hpp"
 #include "wheeltec/link_event.hpp"
+#include "wheeltec/link_recovery.hpp"
 
 #include "link_event_monitor.hpp"
 
@@ -64,13 +66,12 @@ class CanLink {
   int socket_descriptor() { return socket_.is_open() ? socket_.native_handle() : -1; }
 
   BusState state() const { return state_; }
+  // Why it is down (empty while up, and before the first attempt).
+  std::optional<LinkDownCause> down_cause() const { return recovery_.cause(); }
   const std::string& interface() const { return interface_; }
   const CanLinkCounters& counters() const { return counters_; }
 
  private:
-  // Why the link is down, so that each cause is logged once rather than on every retry.
-  enum class DownCause { none, absent, not_up, open_failed, socket_error };
-
   bool try_open();
   void go_down(const boost::system::error_code& ec);
   void schedule_retry();
@@ -79,13 +80,12 @@ class CanLink {
   void recheck_interface();
   void on_frames(std::span<const asio_can::ReceivedFrame> frames, const boost::system::error_code& ec);
   void handle_error_frame(const CanFrame& frame);
-  void note_down_cause(DownCause cause, const char* what, const boost::system::error_code& ec);
+  // Logged at warning when the cause is news, else at debug: not on every retry.
+  void note_down_cause(LinkDownCause cause, const char* what, const boost::system::error_code& ec);
   void set_state(BusState state);
 
   std::string interface_;
-  std::chrono::milliseconds retry_interval_;
-  std::chrono::milliseconds max_retry_interval_;
-  std::chrono::milliseconds retry_delay_;  // the next retry's delay; doubles up to max_retry_interval_
+  LinkRecovery recovery_;  // why it is down, and the retries' backoff
   asio_can::raw_protocol::socket socket_;
   asio_can::frame_reader reader_;  // after socket_: destroyed before it
   boost::asio::steady_timer retry_timer_;
@@ -99,7 +99,6 @@ class CanLink {
   // Bumped whenever the socket is closed or reopened: completions of an older socket are stale.
   std::uint64_t generation_ = 0;
   bool running_ = false;
-  DownCause down_cause_ = DownCause::none;
   std::uint64_t failed_sends_in_row_ = 0;  // only the first failure of a run is logged as a warning
 };
 

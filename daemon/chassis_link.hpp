@@ -1,6 +1,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -9,6 +10,7 @@
 #include "wheeltec/charging_dock.hpp"
 #include "wheeltec/clocks.hpp"
 #include "wheeltec/control_frame.hpp"
+#include "wheeltec/link_recovery.hpp"
 #include "wheeltec/telemetry_record.hpp"
 #include "wheeltec/types.hpp"
 
@@ -40,6 +42,8 @@ class ChassisLink : public CommandSink {
   virtual void stop() = 0;
 
   virtual BusState state() const = 0;
+  // Why it is down: empty while up (and before the first attempt to open it).
+  virtual std::optional<LinkDownCause> down_cause() const = 0;
   virtual Transport transport() const = 0;
   virtual const std::string& name() const = 0;  // the interface or the device, as configured
   // The zero command in the link's own frame, as written to its descriptor: for the stall

@@ -94,6 +94,7 @@ void Gateway::status_may_have_changed() {
 StatusFields Gateway::status_fields() const {
   StatusFields fields;
   fields.bus_state = link_->state();
+  if (fields.bus_state == BusState::down) fields.down_cause = link_->down_cause();
   fields.online = supervisor_.online();
   if (const auto& latest = telemetry_.latest()) {
     fields.stopped = latest->record.stopped;

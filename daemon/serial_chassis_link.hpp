@@ -26,6 +26,7 @@ class SerialChassisLink : public ChassisLink {
   bool refreshes_enable() const override { return false; }
   bool zeroes_when_up() const override { return true; }
   BusState state() const override { return port_.state(); }
+  std::optional<LinkDownCause> down_cause() const override { return port_.down_cause(); }
   Transport transport() const override { return Transport::serial; }
   const std::string& name() const override { return port_.device(); }
   StallSentinel::ZeroFrame zero_frame() const override {

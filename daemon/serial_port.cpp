@@ -38,7 +38,7 @@ SerialPort::SerialPort(boost::asio::io_context& io, std::string device, std::uin
                        std::chrono::milliseconds retry_interval)
     : device_(std::move(device)),
       baud_(baud),
-      retry_interval_(retry_interval),
+      recovery_(RetryPolicy{retry_interval, retry_interval}),
       port_(io),
       retry_timer_(io),
       watch_(io, device_) {}
@@ -62,30 +62,30 @@ bool SerialPort::try_open() {
   if (fd < 0) {
     const int error = errno;
     if (error == ENOENT) {
-      note_down_cause(DownCause::absent, "absent");
+      note_down_cause(LinkDownCause::absent, "absent");
     } else if (error == EBUSY) {
-      note_down_cause(DownCause::busy, "busy: another program holds it exclusively (TIOCEXCL)");
+      note_down_cause(LinkDownCause::busy, "busy: another program holds it exclusively (TIOCEXCL)");
     } else {
-      note_down_cause(DownCause::open_failed, fmt::format("cannot open: {}", std::strerror(error)));
+      note_down_cause(LinkDownCause::open_failed, fmt::format("cannot open: {}", std::strerror(error)));
     }
     return false;
   }
   // Nothing is written, and no setting changed, before the port is ours alone.
-  const auto fail = [&](DownCause cause, const std::string& reason) {
+  const auto fail = [&](LinkDownCause cause, const std::string& reason) {
     ::close(fd);
     note_down_cause(cause, reason);
     return false;
   };
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-    if (errno == EWOULDBLOCK) return fail(DownCause::busy, "busy: another program has it locked (flock)");
-    return fail(DownCause::open_failed, fmt::format("cannot lock: {}", std::strerror(errno)));
+    if (errno == EWOULDBLOCK) return fail(LinkDownCause::busy, "busy: another program has it locked (flock)");
+    return fail(LinkDownCause::open_failed, fmt::format("cannot lock: {}", std::strerror(errno)));
   }
   if (!is_pseudo_terminal(fd) && ::ioctl(fd, TIOCEXCL) != 0) {
-    return fail(DownCause::open_failed, fmt::format("not a serial port (TIOCEXCL: {})", std::strerror(errno)));
+    return fail(LinkDownCause::open_failed, fmt::format("not a serial port (TIOCEXCL: {})", std::strerror(errno)));
   }
   boost::system::error_code ec;
   port_.assign(fd, ec);
-  if (ec) return fail(DownCause::open_failed, fmt::format("cannot use: {}", ec.message()));
+  if (ec) return fail(LinkDownCause::open_failed, fmt::format("cannot use: {}", ec.message()));
   using base = boost::asio::serial_port_base;
   port_.set_option(base::baud_rate(baud_), ec);
   if (!ec) port_.set_option(base::character_size(8), ec);
@@ -95,7 +95,7 @@ bool SerialPort::try_open() {
   if (ec) {
     boost::system::error_code ignored;
     port_.close(ignored);
-    note_down_cause(DownCause::open_failed, fmt::format("cannot set {} 8N1: {}", baud_, ec.message()));
+    note_down_cause(LinkDownCause::open_failed, fmt::format("cannot set {} 8N1: {}", baud_, ec.message()));
     return false;
   }
   ::tcflush(fd, TCIOFLUSH);  // bytes of an earlier session are not this controller's news
@@ -105,10 +105,7 @@ bool SerialPort::try_open() {
   if (!first_open) ++counters_.reopens;
   ++generation_;
   retry_timer_.cancel();
-  if (down_cause_ != DownCause::none || first_open) {
-    spdlog::info("serial {}: open, {} baud 8N1, locked", device_, baud_);
-  }
-  down_cause_ = DownCause::none;
+  if (recovery_.opened() || first_open) spdlog::info("serial {}: open, {} baud 8N1, locked", device_, baud_);
   failed_writes_in_row_ = 0;
   if (opened_handler_) opened_handler_(fd);
   if (state_handler_) state_handler_(BusState::up);
@@ -129,11 +126,11 @@ void SerialPort::read() {
       if (generation != generation_) return;
     }
     if (ec == boost::asio::error::eof) {
-      go_down(DownCause::unplugged, "end of file (unplugged)");
+      go_down(LinkDownCause::unplugged, "end of file (unplugged)");
       return;
     }
     if (ec) {
-      go_down(DownCause::unplugged, fmt::format("read failed: {}", ec.message()));
+      go_down(LinkDownCause::unplugged, fmt::format("read failed: {}", ec.message()));
       return;
     }
     read();
@@ -157,7 +154,7 @@ bool SerialPort::write(std::span<const std::uint8_t> frame) {
   const int error = written < 0 ? errno : 0;
   ++counters_.write_errors;
   if (means_unplugged(error)) {
-    go_down(DownCause::unplugged, fmt::format("write failed: {}", std::strerror(error)));
+    go_down(LinkDownCause::unplugged, fmt::format("write failed: {}", std::strerror(error)));
     return false;
   }
   const std::string reason = written < 0 ? std::strerror(error) : fmt::format("{} of {} bytes taken", written,
@@ -181,25 +178,23 @@ void SerialPort::close_port() {
   ++generation_;
 }
 
-void SerialPort::go_down(DownCause cause, const std::string& reason) {
+void SerialPort::go_down(LinkDownCause cause, const std::string& reason) {
   close_port();
-  down_cause_ = cause;
+  recovery_.down(cause);
   spdlog::warn("serial {}: {}; reopening when it is back", device_, reason);
   if (state_handler_) state_handler_(BusState::down);
   schedule_retry();
 }
 
-void SerialPort::note_down_cause(DownCause cause, const std::string& reason) {
-  const bool repeated = cause == down_cause_;
-  down_cause_ = cause;
-  spdlog::log(repeated ? spdlog::level::debug : spdlog::level::warn,
+void SerialPort::note_down_cause(LinkDownCause cause, const std::string& reason) {
+  spdlog::log(recovery_.down(cause) ? spdlog::level::warn : spdlog::level::debug,
               "serial {}: {}; reopening when it appears, else retrying every {:g} s", device_, reason,
-              std::chrono::duration<double>(retry_interval_).count());
+              std::chrono::duration<double>(recovery_.policy().first).count());
 }
 
 void SerialPort::schedule_retry() {
   if (!running_) return;
-  retry_timer_.expires_after(retry_interval_);
+  retry_timer_.expires_after(recovery_.next_retry());
   retry_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec == boost::asio::error::operation_aborted || !running_ || port_.is_open()) return;
     if (!try_open()) schedule_retry();

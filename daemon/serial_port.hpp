@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -13,6 +14,7 @@
 
 #include "wheeltec/bus_state.hpp"
 #include "wheeltec/clocks.hpp"
+#include "wheeltec/link_recovery.hpp"
 
 #include "device_watch.hpp"
 
@@ -29,7 +31,8 @@ struct SerialPortCounters {
 // exclusively (flock(LOCK_EX|LOCK_NB), then TIOCEXCL but on a pseudo-terminal) and written
 // to only once it is held. End of file, EIO, ENXIO or ENODEV (the adapter unplugged) closes it and reports
 // it down; it is reopened when its path reappears (inotify on the directory) or on a
-// retry timer, whichever comes first.
+// retry timer at a fixed interval (the path's return is seen at once; a busy device is
+// released without a sign), whichever comes first.
 class SerialPort {
  public:
   using BytesHandler = std::function<void(std::span<const std::uint8_t> bytes, RealtimeNanos time)>;
@@ -53,30 +56,29 @@ class SerialPort {
   bool write(std::span<const std::uint8_t> frame);
 
   BusState state() const { return port_.is_open() ? BusState::up : BusState::down; }
+  // Why it is down (empty while open, and before the first attempt).
+  std::optional<LinkDownCause> down_cause() const { return recovery_.cause(); }
   const std::string& device() const { return device_; }
   const SerialPortCounters& counters() const { return counters_; }
 
  private:
-  // Why the port is closed, so that each cause is logged once rather than on every retry.
-  enum class DownCause { none, absent, busy, open_failed, unplugged };
-
   bool try_open();
   void read();
   void close_port();
-  void go_down(DownCause cause, const std::string& reason);
-  void note_down_cause(DownCause cause, const std::string& reason);
+  void go_down(LinkDownCause cause, const std::string& reason);
+  // Logged at warning when the cause is news, else at debug: not on every retry.
+  void note_down_cause(LinkDownCause cause, const std::string& reason);
   void schedule_retry();
   void retry_now();
 
   std::string device_;
   std::uint32_t baud_;
-  std::chrono::milliseconds retry_interval_;
+  LinkRecovery recovery_;  // why it is down, and the retries' interval
   boost::asio::serial_port port_;
   boost::asio::steady_timer retry_timer_;
   DeviceWatch watch_;
   std::array<std::uint8_t, 1024> buffer_{};
   SerialPortCounters counters_;
-  DownCause down_cause_ = DownCause::none;
   std::uint64_t failed_writes_in_row_ = 0;
   std::uint64_t generation_ = 0;  // bumped when the port is closed: older completions are stale
   bool opened_before_ = false;

@@ -73,6 +73,8 @@ json status_to_json(const StatusIdentity& identity, const StatusFields& fields, 
       {"safety", safety_to_json(safety)},
       {"odometry", {{"scale", odometry_scale_to_json(fields.odometry_scale)}}},
   };
+  // Only while down, so that the bus object of a working link is as it always was.
+  if (fields.down_cause) status["bus"]["down_cause"] = to_string(*fields.down_cause);
   // The dialect is how control frames look on CAN; the serial line has one frame format.
   if (identity.transport == Transport::can) status["chassis"]["dialect"] = to_string(identity.dialect);
   return status;

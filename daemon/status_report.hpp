@@ -12,6 +12,7 @@
 #include "wheeltec/control_arbiter.hpp"
 #include "wheeltec/control_frame.hpp"
 #include "wheeltec/emergency_stop.hpp"
+#include "wheeltec/link_recovery.hpp"
 #include "wheeltec/odometry.hpp"
 #include "wheeltec/velocity_ramp.hpp"
 #include "wheeltec/types.hpp"
@@ -38,6 +39,7 @@ struct LatchMark {
 // uptime_s and telemetry_age_s. Cheap to build and compare on every record.
 struct StatusFields {
   BusState bus_state = BusState::down;
+  std::optional<LinkDownCause> down_cause;  // while down
   bool online = false;
   std::optional<bool> stopped;
   std::optional<double> battery_v;  // rounded to 0.01 V
