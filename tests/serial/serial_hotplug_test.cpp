@@ -68,6 +68,9 @@ TEST_F(SerialHotplug, UnplugWhileDrivingThenReplugAtTheSameLink) {
       std::this_thread::sleep_for(100ms);
     }
     ASSERT_TRUE(down) << "bus.state never became down after the unplug; last " << last.dump() << "\n" << logs();
+    // Pulled under the open port: unplugged; once the retries find the path gone: absent.
+    const Json cause = (*down)["bus"]["down_cause"];
+    EXPECT_TRUE(cause == "unplugged" || cause == "absent") << down->dump();
     std::printf("[ figure ] bus down %.3f s after the unplug\n", seconds_between(unplugged, SteadyClock::now()));
     EXPECT_EQ((*down)["bus"]["transport"], "serial");
     EXPECT_EQ((*down)["bus"]["interface"], link_.string());
@@ -109,6 +112,7 @@ TEST_F(SerialHotplug, StartsWithoutTheDeviceAndOpensItWhenItAppears) {
   Json last;
   ASSERT_TRUE(wait_for_status(client, bus_state_is("down"), 2s, &last)) << last.dump();
   EXPECT_EQ(last["bus"]["interface"], link_.string()) << last.dump();
+  EXPECT_EQ(last["bus"]["down_cause"], "absent") << last.dump();
   EXPECT_EQ(client.request("drive", {{"vx", 0.1}})["error"]["code"], -32003);
   std::this_thread::sleep_for(500ms);
   ASSERT_TRUE(daemon.process().running()) << logs();
@@ -118,6 +122,7 @@ TEST_F(SerialHotplug, StartsWithoutTheDeviceAndOpensItWhenItAppears) {
   fake_->replug();
   expect_zero_first_after_replug(*fake_, replugged, logs());
   ASSERT_TRUE(wait_for_status(client, bus_state_is("up"), 1500ms, &last)) << last.dump() << "\n" << logs();
+  EXPECT_FALSE(last["bus"].contains("down_cause")) << "only while down: " << last.dump();
   ASSERT_TRUE(wait_for_status(client, [](const Json& s) { return s["chassis"]["online"] == true; }, 2s, &last))
       << last.dump();
 }
