@@ -59,11 +59,7 @@ void ControlLoop::send_enable(bool enable) {
 void ControlLoop::start() {
   if (!supervisor_.start()) return;
   // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
-  if (link_sent_zero()) {
-    supervisor_.frame_sent(ControlCommand{}, ports_.clock.now());
-  } else {
-    send_frame();
-  }
+  send_frame();
   ports_.stall_guard.start();
   if (config_.control.auto_enable) enable();
 }
@@ -92,9 +88,9 @@ EnableOutcome ControlLoop::enable() {
   if (outcome != EnableOutcome::enabled) return outcome;
   spdlog::info("control enabled");
   send_enable(true);
-  // The target is zero here. A link that zeroed the chassis itself when it came up has no
-  // enable frame for a command to follow (the serial line): the periodic frames carry on.
-  if (!ports_.link.zeroes_when_up()) send_frame();
+  // A command follows the enable frame (the manual dialect) at once; without one the
+  // start's zero frame was the last and the periodic frames carry on.
+  if (ports_.link.refreshes_enable()) send_frame();
   start_periodic();
   ports_.stall_guard.beat();
   start_enable_refresh();
@@ -149,17 +145,13 @@ void ControlLoop::client_gone(ClientId client) {
 
 void ControlLoop::link_changed(LinkState state) {
   const LinkState before = supervisor_.link();
-  const MonotonicNanos now = ports_.clock.now();
-  supervisor_.link_changed(state, now);
-  if (state == LinkState::up && before == LinkState::down) {
-    if (link_sent_zero()) {
-      supervisor_.frame_sent(ControlCommand{}, now);
-      if (supervisor_.enabled() && !(supervisor_.frame(now) == ControlCommand{})) send_frame();
-    } else if (supervisor_.enabled()) {
+  supervisor_.link_changed(state);
+  const bool started = supervisor_.mode() != ControlMode::not_started && supervisor_.mode() != ControlMode::shut_down;
+  if (state == LinkState::up && before == LinkState::down && started) {
+    send_frame();  // zero, whatever the target
+    if (supervisor_.enabled()) {
       send_enable(true);
-      send_frame();
-    } else if (supervisor_.mode() == ControlMode::awaiting_first_zero) {
-      send_frame();
+      if (!(supervisor_.frame(ports_.clock.now()) == ControlCommand{})) send_frame();  // then the target
     }
   }
   may_have_changed();

@@ -23,7 +23,8 @@ struct DriveResult {
 // time, and carries out what the supervisor decides on the link, with the timing of the
 // contract (spec "CAN side" and section 8): the command frame every 1/rate_hz while enabled
 // plus one at once when the target changes, the enable frame when control becomes enabled
-// and every enable_refresh_s where the link wants it, the first frame zero, a timer at the
+// and every enable_refresh_s where the link wants it, the first frame zero (at start and
+// whenever the link comes back), a timer at the
 // owner's deadline (the deadman, no polling) and one at the chassis' offline deadline, zero
 // then disable on shutdown; and, while control is enabled, the stall guard's heartbeat. A
 // deadman that stops a moving chassis is reported to the events.
@@ -82,8 +83,6 @@ class ControlLoop {
   void report_lapse(const ControlLapse& lapse, MonotonicNanos now);
   void arm_offline_timer();
   void may_have_changed();
-  // The link is up and sent the zero command itself when it came up.
-  bool link_sent_zero() const { return ports_.link.zeroes_when_up() && supervisor_.link() == LinkState::up; }
 
   ControlPorts ports_;
   ChassisSupervisor& supervisor_;

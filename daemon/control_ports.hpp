@@ -28,11 +28,9 @@ class CommandSink {
   virtual bool send_command(const ControlCommand& command) = 0;
   // Control enabled or disabled (CAN manual dialect: the enable frame; elsewhere nothing).
   virtual void send_enable(bool enable) = 0;
-  // Whether the enable frame must be repeated so that a rebooted controller resumes.
+  // Whether the link has an enable frame, which a command follows at once and which must be
+  // repeated so that a rebooted controller resumes (CAN's manual dialect).
   virtual bool refreshes_enable() const = 0;
-  // Whether the link sends the zero command itself, first, each time it comes up (the serial
-  // line at each open of its port): then that frame is the zero the contract wants first.
-  virtual bool zeroes_when_up() const { return false; }
 };
 
 // One wait at a time: a new wait or cancel() drops the one under way (its handler is not called).

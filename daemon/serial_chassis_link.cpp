@@ -10,11 +10,11 @@ SerialChassisLink::SerialChassisLink(boost::asio::io_context& io, const GatewayC
 void SerialChassisLink::start(Handlers handlers) {
   handlers_ = std::move(handlers);
   port_.on_bytes([this](std::span<const std::uint8_t> bytes, RealtimeNanos time) { on_bytes(bytes, time); });
+  // The controller keeps running its last command: whatever held the port before us (or we
+  // ourselves before an unplug) may have left it driving. The state handler's control loop
+  // writes the zero frame first, in the same turn as the open, before anything is read.
   port_.on_opened([this](int fd) {
     finder_.reset();
-    // The controller keeps running its last command: whatever held the port before us (or
-    // we ourselves before an unplug) may have left it driving.
-    port_.write(zero_command_frame());
     if (handlers_.port) handlers_.port(fd);
   });
   port_.on_closing([this] {

@@ -24,7 +24,6 @@ class SerialChassisLink : public ChassisLink {
   bool send_command(const ControlCommand& command) override;
   void send_enable(bool) override {}  // the serial line has no handshake
   bool refreshes_enable() const override { return false; }
-  bool zeroes_when_up() const override { return true; }
   BusState state() const override { return port_.state(); }
   std::optional<LinkDownCause> down_cause() const override { return port_.down_cause(); }
   Transport transport() const override { return Transport::serial; }

@@ -21,8 +21,7 @@ bool ChassisSupervisor::update_command() {
 void ChassisSupervisor::zero() {
   arbiter_.stop();
   update_command();
-  ramp_from_ = Velocity{};
-  ramp_from_time_.reset();
+  zero_next_ = true;
 }
 
 bool ChassisSupervisor::start() {
@@ -62,15 +61,9 @@ bool ChassisSupervisor::release() {
 }
 
 ControlCommand ChassisSupervisor::frame(MonotonicNanos now) const {
-  if (!settings_.ramp.any() || !ramp_from_time_) {
-    // No limits, or a stop or the link's return just reset the ramp: a stop's zero goes out
-    // as it is, and a target set since then starts from zero.
-    if (!settings_.ramp.any()) return command_;
-    ControlCommand zero_frame;
-    zero_frame.clamped = command_.clamped;
-    return zero_frame;
-  }
-  const Velocity next = ramp_toward(ramp_from_, command_velocity(command_), settings_.ramp, now - *ramp_from_time_);
+  if (zero_next_) return ControlCommand{};
+  if (!settings_.ramp.any()) return command_;
+  const Velocity next = ramp_toward(ramp_from_, command_velocity(command_), settings_.ramp, now - ramp_from_time_);
   ControlCommand frame = quantize_command(next, settings_.limits);
   frame.clamped = command_.clamped;
   return frame;
@@ -78,17 +71,16 @@ ControlCommand ChassisSupervisor::frame(MonotonicNanos now) const {
 
 void ChassisSupervisor::frame_sent(const ControlCommand& frame, MonotonicNanos now) {
   if (mode_ == ControlMode::awaiting_first_zero) mode_ = ControlMode::disabled;
+  zero_next_ = false;
   sent_ = frame;
   ramp_from_ = command_velocity(frame);
   ramp_from_time_ = now;
 }
 
-void ChassisSupervisor::link_changed(LinkState state, MonotonicNanos now) {
-  if (state == LinkState::up && link_ == LinkState::down) {
-    // What the chassis does after the link's return is not known: the ramp starts at zero, now.
-    ramp_from_ = Velocity{};
-    ramp_from_time_ = now;
-  }
+void ChassisSupervisor::link_changed(LinkState state) {
+  // What the chassis did while the link was gone is not known: zero first, then the target
+  // (ramped from zero).
+  if (state == LinkState::up && link_ == LinkState::down) zero_next_ = true;
   link_ = state;
 }
 

@@ -17,7 +17,7 @@ const RealtimeNanos kEpoch{std::chrono::seconds(1763800000)};
 class ChassisSupervisorTest : public ::testing::Test {
  protected:
   ChassisSupervisorTest() : supervisor_(SupervisorSettings{}) {
-    supervisor_.link_changed(LinkState::up, kStart);
+    supervisor_.link_changed(LinkState::up);
     supervisor_.start();
     supervisor_.frame_sent(ControlCommand{}, kStart);
     supervisor_.enable();
@@ -107,7 +107,7 @@ TEST_F(ChassisSupervisorTest, ALapseNamesTheOwnerItsLastDriveAndWhetherItMoved) 
 
 TEST_F(ChassisSupervisorTest, RefusalsComeInTheContractsOrder) {
   record(0ms, true);  // flag_stop after a silence: booting
-  supervisor_.link_changed(LinkState::down, kStart);
+  supervisor_.link_changed(LinkState::down);
   supervisor_.disable();
   DriveDecision decision = supervisor_.drive(kAlice, kForward, kStart);
   EXPECT_EQ(decision.refusal, DriveRefusal::chassis_not_ready);
@@ -115,7 +115,7 @@ TEST_F(ChassisSupervisorTest, RefusalsComeInTheContractsOrder) {
 
   supervisor_.expire_online(kStart + 1s);  // offline: no phase
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, DriveRefusal::link_down);
-  supervisor_.link_changed(LinkState::up, kStart);
+  supervisor_.link_changed(LinkState::up);
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, DriveRefusal::control_disabled);
   supervisor_.enable();
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, std::nullopt);

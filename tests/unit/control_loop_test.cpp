@@ -56,7 +56,7 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard,
  public:
   explicit Simulation(Dialect dialect) : dialect_(dialect) {}
 
-  bool zeroes_when_up_ = false;  // as the serial link does at each open of its port (no enable frame)
+  bool serial_ = false;  // the serial line: no enable frame whatever the dialect
 
   class Timer : public OneShotTimer, public SimulatedEvent {
    public:
@@ -105,8 +105,7 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard,
   void send_enable(bool enable) override {
     if (refreshes_enable()) bus_.push_back({now_, enable, std::nullopt});
   }
-  bool refreshes_enable() const override { return dialect_ == Dialect::manual && !zeroes_when_up_; }
-  bool zeroes_when_up() const override { return zeroes_when_up_; }
+  bool refreshes_enable() const override { return dialect_ == Dialect::manual && !serial_; }
   void start() override { guard_started_ = true; }
   void beat() override {
     ++beats_;
@@ -483,8 +482,8 @@ TEST_F(ControlLoopTest, BusDownRefusesDrivesAndLinkUpCatchesUp) {
   loop_.link_changed(LinkState::up);
   const auto frames = sim_.take_frames();
   ASSERT_EQ(frames.size(), 2u);
-  EXPECT_EQ(frames[0].enable, true);
-  EXPECT_EQ(frames[1].velocity, kZero);
+  EXPECT_EQ(frames[0].velocity, kZero) << "zero first";
+  EXPECT_EQ(frames[1].enable, true);
 }
 
 TEST_F(ControlLoopTest, ReloadedRateRestartsTheGrid) {
@@ -706,40 +705,40 @@ TEST_F(ControlLoop0x181Test, NoEnableFramesAndTheDeadmanStillLapses) {
   EXPECT_TRUE(sim_.guard_armed_);
 }
 
-// The serial line: the link writes the zero command itself at each open of its port, and
-// that one frame is the zero the contract wants first; there is no enable handshake.
+// The serial line: no enable handshake; the zero frame at start and at each reopen of the
+// port is the only frame until the periods (or a target) follow.
 class ControlLoopSerialTest : public ControlLoopTest {
  protected:
-  ControlLoopSerialTest() { sim_.zeroes_when_up_ = true; }
+  ControlLoopSerialTest() { sim_.serial_ = true; }
 };
 
-TEST_F(ControlLoopSerialTest, TheLinksZeroAtOpenIsTheOnlyZeroAtStart) {
+TEST_F(ControlLoopSerialTest, OneZeroAtStartThenThePeriods) {
   loop_.start();
-  EXPECT_TRUE(sim_.take_frames().empty()) << "the link sent the zero when its port opened";
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero}) << "one zero: enable has no frame to follow";
   EXPECT_TRUE(supervisor_.enabled());
   sim_.advance(kPeriod);
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
 }
 
-TEST_F(ControlLoopSerialTest, AReopenedPortGetsNoSecondZeroButTheCurrentCommand) {
+TEST_F(ControlLoopSerialTest, AReopenedPortGetsZeroThenTheCurrentCommand) {
   start();
   loop_.link_changed(LinkState::down);
   loop_.link_changed(LinkState::up);
-  EXPECT_TRUE(sim_.take_frames().empty()) << "nobody drives: the link's own zero is the only frame";
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero}) << "nobody drives: one zero";
 
   loop_.drive(kAlice, kForward);
   sim_.take_frames();
   loop_.link_changed(LinkState::down);
   loop_.link_changed(LinkState::up);
-  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kForward}) << "after the link's zero";
+  EXPECT_EQ(velocities(sim_.take_frames()), (std::vector<Velocity>{kZero, kForward})) << "zero first";
 }
 
 TEST_F(ControlLoopSerialTest, APortOpenedAfterStartGetsOneZero) {
   loop_.link_changed(LinkState::down);
   loop_.start();
-  EXPECT_TRUE(sim_.take_frames().empty());
+  EXPECT_TRUE(sim_.take_frames().empty()) << "nothing to send to";
   loop_.link_changed(LinkState::up);
-  EXPECT_TRUE(sim_.take_frames().empty()) << "the link sent the zero when its port opened";
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
   EXPECT_EQ(supervisor_.mode(), ControlMode::enabled);
 }
 

@@ -78,6 +78,7 @@ class ChassisSupervisor {
 
   // Control. A stop (stop, disable, the owner gone, the deadman, estop, shut_down, a boot
   // or self-test entered) sets the target to zero and the next frame to zero, unramped.
+  // The first frame after start and after the link comes back is zero too.
   bool start();                // the start-up zero frame
   EnableOutcome enable();
   bool disable();              // true if control was enabled until now; target zero, no owner
@@ -102,7 +103,7 @@ class ChassisSupervisor {
   const ControlCommand& sent() const { return sent_; }  // the last frame that reached the link
 
   // The chassis.
-  void link_changed(LinkState state, MonotonicNanos now);
+  void link_changed(LinkState state);
   RecordOutcome record(const PhaseInput& record, MonotonicNanos now);
   bool expire_online(MonotonicNanos now);  // true if it just went offline
 
@@ -133,10 +134,11 @@ class ChassisSupervisor {
   LinkState link_ = LinkState::down;
   ControlArbiter arbiter_;
   ControlCommand command_;
-  // Where the next frame's ramp starts, and when: the last frame sent, or zero at once
-  // after a stop or the link's return.
+  // The next frame is zero whatever the target: at start, after a stop, after the link's return.
+  bool zero_next_ = true;
+  // Where the next frame's ramp starts, and when: the last frame that reached the link.
   Velocity ramp_from_;
-  std::optional<MonotonicNanos> ramp_from_time_;
+  MonotonicNanos ramp_from_time_{};
   ControlCommand sent_;
   SafetyState safety_;
   bool online_ = false;
