@@ -18,22 +18,22 @@
 #include <boost/asio/io_context.hpp>
 #include <nlohmann/json.hpp>
 
-#include "api_counters.hpp"
-#include "can_chassis_link.hpp"
-#include "client_state.hpp"
-#include "control_io.hpp"
-#include "control_loop.hpp"
-#include "event_fanout.hpp"
-#include "rpc_handler.hpp"
-#include "status_report.hpp"
-#include "wheeltec/config.hpp"
-#include "wheeltec/control_frame.hpp"
-#include "wheeltec/rpc.hpp"
-#include "wheeltec/telemetry_decoder.hpp"
-#include "wheeltec/telemetry_group.hpp"
-#include "wheeltec/telemetry_json.hpp"
-#include "wheeltec/telemetry_reassembler.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "api/api_counters.hpp"
+#include "link/can_chassis_link.hpp"
+#include "api/client_state.hpp"
+#include "control/control_io.hpp"
+#include "control/control_loop.hpp"
+#include "api/event_fanout.hpp"
+#include "api/rpc_handler.hpp"
+#include "api/status_report.hpp"
+#include "wheeltec/config/config.hpp"
+#include "wheeltec/frames/control_frame.hpp"
+#include "wheeltec/api/rpc.hpp"
+#include "wheeltec/telemetry/telemetry_decoder.hpp"
+#include "wheeltec/emulator/telemetry_group.hpp"
+#include "wheeltec/telemetry/telemetry_json.hpp"
+#include "wheeltec/frames/telemetry_reassembler.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace {
 

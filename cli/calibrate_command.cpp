@@ -10,7 +10,7 @@
 
 #include <fmt/format.h>
 
-#include "wheeltec/calibration.hpp"
+#include "wheeltec/telemetry/calibration.hpp"
 
 #include "calibration_report.hpp"
 #include "cli_error.hpp"

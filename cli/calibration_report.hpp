@@ -4,7 +4,7 @@
 #include <string>
 
 #include "human_format.hpp"
-#include "wheeltec/calibration.hpp"
+#include "wheeltec/telemetry/calibration.hpp"
 
 // What `wheeltecctl calibrate` reads from the daemon and says to the owner (pure, no I/O).
 namespace wheeltecctl {

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "human_format.hpp"
-#include "wheeltec/calibration.hpp"
+#include "wheeltec/telemetry/calibration.hpp"
 #include "wheeltec/types.hpp"
 
 // The subcommands of wheeltecctl. Each returns the process exit code or throws CliError.

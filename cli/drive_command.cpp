@@ -2,7 +2,7 @@
 #include <chrono>
 #include <iostream>
 
-#include "wheeltec/seconds.hpp"
+#include "wheeltec/config/seconds.hpp"
 
 #include "cli_error.hpp"
 #include "commands.hpp"

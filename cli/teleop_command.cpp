@@ -11,7 +11,7 @@
 #include <boost/asio/posix/stream_descriptor.hpp>
 #include <fmt/format.h>
 
-#include "wheeltec/seconds.hpp"
+#include "wheeltec/config/seconds.hpp"
 
 #include "cli_error.hpp"
 #include "commands.hpp"

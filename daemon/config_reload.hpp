@@ -3,9 +3,9 @@
 #include <string>
 #include <variant>
 
-#include "wheeltec/config.hpp"
+#include "wheeltec/config/config.hpp"
 
-#include "access_config.hpp"
+#include "api/access_config.hpp"
 #include "options.hpp"
 
 namespace wheeltec::daemon {

@@ -6,14 +6,14 @@
 
 #include <spdlog/spdlog.h>
 
-#include "wheeltec/rpc.hpp"
+#include "wheeltec/api/rpc.hpp"
 #include "wheeltec/service/logging.hpp"
 #include "wheeltec/version.hpp"
 
-#include "can_chassis_link.hpp"
+#include "link/can_chassis_link.hpp"
 #include "config_reload.hpp"
-#include "serial_chassis_link.hpp"
-#include "stats_report.hpp"
+#include "link/serial_chassis_link.hpp"
+#include "api/stats_report.hpp"
 
 namespace wheeltec::daemon {
 namespace {

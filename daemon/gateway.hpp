@@ -7,21 +7,21 @@
 #include <boost/asio/signal_set.hpp>
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/chassis_supervisor.hpp"
-#include "wheeltec/config.hpp"
-#include "wheeltec/telemetry_decoder.hpp"
+#include "wheeltec/control/chassis_supervisor.hpp"
+#include "wheeltec/config/config.hpp"
+#include "wheeltec/telemetry/telemetry_decoder.hpp"
 
-#include "access_config.hpp"
-#include "api_counters.hpp"
-#include "api_server.hpp"
-#include "chassis_link.hpp"
-#include "control_io.hpp"
-#include "control_loop.hpp"
-#include "dock_monitor.hpp"
-#include "event_fanout.hpp"
+#include "api/access_config.hpp"
+#include "api/api_counters.hpp"
+#include "api/api_server.hpp"
+#include "link/chassis_link.hpp"
+#include "control/control_io.hpp"
+#include "control/control_loop.hpp"
+#include "link/dock_monitor.hpp"
+#include "api/event_fanout.hpp"
 #include "options.hpp"
-#include "rpc_handler.hpp"
-#include "status_report.hpp"
+#include "api/rpc_handler.hpp"
+#include "api/status_report.hpp"
 #include "systemd_notifier.hpp"
 
 namespace wheeltec::daemon {

@@ -10,14 +10,14 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include "wheeltec/config.hpp"
+#include "wheeltec/config/config.hpp"
 #include "wheeltec/service/logging.hpp"
 #include "wheeltec/service/program.hpp"
 
-#include "access_config.hpp"
+#include "api/access_config.hpp"
 #include "gateway.hpp"
 #include "options.hpp"
-#include "safety_state_file.hpp"
+#include "control/safety_state_file.hpp"
 
 namespace {
 

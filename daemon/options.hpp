@@ -4,7 +4,7 @@
 #include <string>
 #include <variant>
 
-#include "wheeltec/config.hpp"
+#include "wheeltec/config/config.hpp"
 
 namespace wheeltec::daemon {
 

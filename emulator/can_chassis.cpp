@@ -8,7 +8,7 @@
 #include "can_socket.hpp"
 #include "wheeltec/asio_can/frame_io.hpp"
 #include "wheeltec/asio_can/socket_fault.hpp"
-#include "wheeltec/charging_dock.hpp"
+#include "wheeltec/frames/charging_dock.hpp"
 
 namespace wheeltec::emulator {
 

@@ -13,7 +13,7 @@
 #include "emulator_options.hpp"
 #include "wheeltec/asio_can/frame_reader.hpp"
 #include "wheeltec/asio_can/raw_protocol.hpp"
-#include "wheeltec/telemetry_group.hpp"
+#include "wheeltec/emulator/telemetry_group.hpp"
 
 namespace wheeltec::emulator {
 

@@ -4,7 +4,7 @@
 
 #include <boost/system/error_code.hpp>
 
-#include "wheeltec/control_frame.hpp"
+#include "wheeltec/frames/control_frame.hpp"
 
 namespace wheeltec::emulator {
 

@@ -5,7 +5,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "wheeltec/seconds.hpp"
+#include "wheeltec/config/seconds.hpp"
 
 namespace wheeltec::emulator {
 

@@ -9,9 +9,9 @@
 #include <boost/system/error_code.hpp>
 
 #include "emulator_options.hpp"
-#include "wheeltec/charging_dock.hpp"
-#include "wheeltec/chassis_emulator.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/frames/charging_dock.hpp"
+#include "wheeltec/emulator/chassis_emulator.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace wheeltec::emulator {
 

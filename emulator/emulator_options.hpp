@@ -6,12 +6,12 @@
 #include <string>
 #include <variant>
 
-#include "wheeltec/chassis_emulator.hpp"
-#include "wheeltec/kinematics.hpp"
-#include "wheeltec/robot_models.hpp"
-#include "wheeltec/telemetry_group.hpp"
+#include "wheeltec/emulator/chassis_emulator.hpp"
+#include "wheeltec/control/kinematics.hpp"
+#include "wheeltec/emulator/robot_models.hpp"
+#include "wheeltec/emulator/telemetry_group.hpp"
 #include "wheeltec/types.hpp"
-#include "wheeltec/wheel_controller.hpp"
+#include "wheeltec/emulator/wheel_controller.hpp"
 
 namespace wheeltec::emulator {
 

@@ -11,7 +11,7 @@
 
 #include "emulator_options.hpp"
 #include "wheeltec/asio_can/raw_protocol.hpp"
-#include "wheeltec/candump_log.hpp"
+#include "wheeltec/emulator/candump_log.hpp"
 
 namespace wheeltec::emulator {
 

@@ -18,7 +18,7 @@
 #include "emulator_options.hpp"
 #include "log_replay.hpp"
 #include "serial_chassis.hpp"
-#include "wheeltec/candump_log.hpp"
+#include "wheeltec/emulator/candump_log.hpp"
 #include "wheeltec/version.hpp"
 
 namespace {

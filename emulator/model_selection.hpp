@@ -4,7 +4,7 @@
 #include <string>
 #include <variant>
 
-#include "wheeltec/robot_models.hpp"
+#include "wheeltec/emulator/robot_models.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec::emulator {

@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <span>
 
-#include "wheeltec/chassis_emulator.hpp"
-#include "wheeltec/serial_frame.hpp"
+#include "wheeltec/emulator/chassis_emulator.hpp"
+#include "wheeltec/frames/serial_frame.hpp"
 
 namespace wheeltec::emulator {
 

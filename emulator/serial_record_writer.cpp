@@ -1,7 +1,7 @@
 #include "serial_record_writer.hpp"
 
 #include "emulated_controller.hpp"
-#include "wheeltec/serial_frame.hpp"
+#include "wheeltec/frames/serial_frame.hpp"
 
 namespace wheeltec::emulator {
 

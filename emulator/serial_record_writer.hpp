@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "serial_line.hpp"
-#include "wheeltec/serial_fault_injector.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/emulator/serial_fault_injector.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace wheeltec::emulator {
 

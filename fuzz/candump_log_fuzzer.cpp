@@ -9,7 +9,7 @@
 #include <string_view>
 #include <variant>
 
-#include "wheeltec/candump_log.hpp"
+#include "wheeltec/emulator/candump_log.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

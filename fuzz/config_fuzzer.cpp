@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/config.hpp"
+#include "wheeltec/config/config.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

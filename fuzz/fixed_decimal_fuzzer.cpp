@@ -8,7 +8,7 @@
 #include <cstring>
 #include <string_view>
 
-#include "wheeltec/fixed_decimal.hpp"
+#include "wheeltec/frames/fixed_decimal.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < sizeof(double) + 2) return 0;

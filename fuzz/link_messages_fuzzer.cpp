@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <span>
 
-#include "wheeltec/link_event.hpp"
+#include "wheeltec/frames/link_event.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::span<const std::uint8_t> datagram(data, size);

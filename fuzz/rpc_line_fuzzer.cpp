@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/rpc.hpp"
+#include "wheeltec/api/rpc.hpp"
 #include "wheeltec/types.hpp"
 
 namespace {

@@ -23,8 +23,8 @@
 #include <variant>
 #include <vector>
 
-#include "wheeltec/serial_frame.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/frames/serial_frame.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace {
 

@@ -14,11 +14,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/can_frame.hpp"
-#include "wheeltec/dock_report.hpp"
-#include "wheeltec/telemetry_json.hpp"
-#include "wheeltec/telemetry_reassembler.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/frames/can_frame.hpp"
+#include "wheeltec/frames/dock_report.hpp"
+#include "wheeltec/telemetry/telemetry_json.hpp"
+#include "wheeltec/frames/telemetry_reassembler.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace {
 

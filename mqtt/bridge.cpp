@@ -3,7 +3,7 @@
 #include <boost/asio/error.hpp>
 #include <spdlog/spdlog.h>
 
-#include "wheeltec/seconds.hpp"
+#include "wheeltec/config/seconds.hpp"
 #include "wheeltec/service/logging.hpp"
 
 namespace wheeltec::mqtt {

@@ -19,7 +19,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include "wheeltec/client/subscription.hpp"
-#include "wheeltec/log_rate_limiter.hpp"
+#include "wheeltec/api/log_rate_limiter.hpp"
 
 #include "bridge_config.hpp"
 #include "command.hpp"

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "wheeltec/drive_velocity.hpp"
-#include "wheeltec/json_text.hpp"
+#include "wheeltec/config/json_text.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec::mqtt {

@@ -23,7 +23,7 @@
 #include <spdlog/spdlog.h>
 
 #include "wheeltec/client/backoff.hpp"
-#include "wheeltec/seconds.hpp"
+#include "wheeltec/config/seconds.hpp"
 #include "wheeltec/service/logging.hpp"
 
 #include "pacing.hpp"

@@ -18,7 +18,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include "wheeltec/client/own_connection.hpp"
-#include "wheeltec/log_rate_limiter.hpp"
+#include "wheeltec/api/log_rate_limiter.hpp"
 
 namespace wheeltec::mqtt {
 

@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "wheeltec/config.hpp"
+#include "wheeltec/config/config.hpp"
 
 #include "file_names.hpp"
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "wheeltec/client/records.hpp"
-#include "wheeltec/log_rate_limiter.hpp"
+#include "wheeltec/api/log_rate_limiter.hpp"
 
 namespace wheeltec::ros2 {
 

@@ -9,8 +9,8 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/config_checks.hpp"
-#include "wheeltec/config_fields.hpp"
+#include "wheeltec/config/config_checks.hpp"
+#include "wheeltec/config/config_fields.hpp"
 
 namespace wheeltec::ros2 {
 namespace {

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "wheeltec/drive_velocity.hpp"
-#include "wheeltec/json_text.hpp"
+#include "wheeltec/config/json_text.hpp"
 
 namespace wheeltec::web::foxglove {
 namespace {

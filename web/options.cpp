@@ -6,7 +6,7 @@
 
 #include "wheeltec/client/connection.hpp"
 #include "wheeltec/command_line.hpp"
-#include "wheeltec/config_checks.hpp"
+#include "wheeltec/config/config_checks.hpp"
 #include "wheeltec/service/config_file.hpp"
 #include "wheeltec/service/layered_config.hpp"
 

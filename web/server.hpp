@@ -16,7 +16,7 @@
 #include <boost/asio/ssl/context.hpp>
 
 #include "wheeltec/client/subscription.hpp"
-#include "wheeltec/log_rate_limiter.hpp"
+#include "wheeltec/api/log_rate_limiter.hpp"
 
 #include "static_files.hpp"
 #include "web_config.hpp"

@@ -9,7 +9,7 @@
 #include "wheeltec/service/logging.hpp"
 
 #include "server.hpp"
-#include "wheeltec/seconds.hpp"
+#include "wheeltec/config/seconds.hpp"
 #include "wheeltec/error_codes.hpp"
 
 namespace wheeltec::web {

@@ -3,8 +3,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/config_checks.hpp"
-#include "wheeltec/config_fields.hpp"
+#include "wheeltec/config/config_checks.hpp"
+#include "wheeltec/config/config_fields.hpp"
 
 namespace wheeltec::web {
 

@@ -9,8 +9,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "wheeltec/config.hpp"  // ConfigError
-#include "wheeltec/config_checks.hpp"
+#include "wheeltec/config/config.hpp"  // ConfigError
+#include "wheeltec/config/config_checks.hpp"
 
 #include "access.hpp"
 

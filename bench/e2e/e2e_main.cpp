@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "harness.hpp"
-#include "wheeltec/control_frame.hpp"
+#include "wheeltec/frames/control_frame.hpp"
 
 namespace {
 

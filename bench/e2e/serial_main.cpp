@@ -13,7 +13,7 @@
 #include <fmt/format.h>
 
 #include "harness.hpp"
-#include "wheeltec/serial_frame.hpp"
+#include "wheeltec/frames/serial_frame.hpp"
 
 namespace {
 

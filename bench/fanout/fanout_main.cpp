@@ -19,19 +19,19 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "api_counters.hpp"
-#include "api_server.hpp"
-#include "can_chassis_link.hpp"
-#include "control_io.hpp"
-#include "control_loop.hpp"
-#include "control_policy.hpp"
-#include "event_fanout.hpp"
+#include "api/api_counters.hpp"
+#include "api/api_server.hpp"
+#include "link/can_chassis_link.hpp"
+#include "control/control_io.hpp"
+#include "control/control_loop.hpp"
+#include "api/control_policy.hpp"
+#include "api/event_fanout.hpp"
 #include "harness.hpp"
-#include "rpc_handler.hpp"
+#include "api/rpc_handler.hpp"
 #include "wheeltec/asio_can/frame_reader.hpp"
 #include "wheeltec/asio_can/raw_protocol.hpp"
-#include "wheeltec/telemetry_decoder.hpp"
-#include "wheeltec/telemetry_reassembler.hpp"
+#include "wheeltec/telemetry/telemetry_decoder.hpp"
+#include "wheeltec/frames/telemetry_reassembler.hpp"
 
 namespace {
 

@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 #include "wheeltec/asio_can/frame_io.hpp"
-#include "wheeltec/control_frame.hpp"
-#include "wheeltec/telemetry_json.hpp"
+#include "wheeltec/frames/control_frame.hpp"
+#include "wheeltec/telemetry/telemetry_json.hpp"
 
 namespace wheeltec::bench {
 

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "wheeltec/clocks.hpp"
-#include "wheeltec/telemetry_decoder.hpp"
-#include "wheeltec/telemetry_reassembler.hpp"
+#include "wheeltec/telemetry/telemetry_decoder.hpp"
+#include "wheeltec/frames/telemetry_reassembler.hpp"
 
 namespace wheeltec::bench {
 

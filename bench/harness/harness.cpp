@@ -31,8 +31,8 @@
 #include <fmt/format.h>
 
 #include "harness.hpp"
-#include "wheeltec/control_frame.hpp"
-#include "wheeltec/serial_frame.hpp"
+#include "wheeltec/frames/control_frame.hpp"
+#include "wheeltec/frames/serial_frame.hpp"
 
 namespace bench {
 

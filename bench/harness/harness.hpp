@@ -29,7 +29,7 @@
 
 #include "pseudo_terminal.hpp"
 #include "wheeltec/asio_can/frame_io.hpp"
-#include "wheeltec/telemetry_group.hpp"
+#include "wheeltec/emulator/telemetry_group.hpp"
 
 namespace bench {
 

@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "wheeltec/config.hpp"
+#include "wheeltec/config/config.hpp"
 
 namespace wheeltec::service {
 

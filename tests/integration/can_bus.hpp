@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "wheeltec/can_frame.hpp"
+#include "wheeltec/frames/can_frame.hpp"
 
 namespace integration {
 

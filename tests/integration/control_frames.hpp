@@ -4,7 +4,7 @@
 #include <initializer_list>
 #include <string>
 
-#include "wheeltec/can_frame.hpp"
+#include "wheeltec/frames/can_frame.hpp"
 
 // What the protocol's frames look like on the bus, written out independently of the
 // library under test so that the tests check the bytes the chassis would see.

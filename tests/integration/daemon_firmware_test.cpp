@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "wheeltec/charging_dock.hpp"
+#include "wheeltec/frames/charging_dock.hpp"
 
 #include "can_bus.hpp"
 #include "gateway.hpp"

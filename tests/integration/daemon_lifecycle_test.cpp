@@ -13,8 +13,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include <wheeltec/telemetry_group.hpp>
-#include <wheeltec/telemetry_record.hpp>
+#include <wheeltec/emulator/telemetry_group.hpp>
+#include <wheeltec/frames/telemetry_record.hpp>
 
 #include "wheeltec/version.hpp"
 #include "can_bus.hpp"

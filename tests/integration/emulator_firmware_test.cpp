@@ -13,7 +13,7 @@
 #include "can_bus.hpp"
 #include "gateway.hpp"
 #include "test_environment.hpp"
-#include "wheeltec/control_frame.hpp"
+#include "wheeltec/frames/control_frame.hpp"
 
 namespace integration {
 namespace {

@@ -19,9 +19,9 @@
 #include "child_process.hpp"
 #include "gateway.hpp"
 #include "test_environment.hpp"
-#include "wheeltec/candump_log.hpp"
-#include "wheeltec/control_frame.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/emulator/candump_log.hpp"
+#include "wheeltec/frames/control_frame.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace integration {
 namespace {

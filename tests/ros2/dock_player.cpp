@@ -4,7 +4,7 @@
 
 #include "can_bus.hpp"
 #include "test_environment.hpp"
-#include "wheeltec/charging_dock.hpp"
+#include "wheeltec/frames/charging_dock.hpp"
 
 namespace ros2_tests {
 

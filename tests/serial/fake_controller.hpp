@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace serial_tests {
 

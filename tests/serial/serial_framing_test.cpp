@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "serial_daemon.hpp"
-#include "wheeltec/serial_frame.hpp"
+#include "wheeltec/frames/serial_frame.hpp"
 
 namespace serial_tests {
 namespace {

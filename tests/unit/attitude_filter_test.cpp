@@ -1,4 +1,4 @@
-#include "wheeltec/attitude_filter.hpp"
+#include "wheeltec/telemetry/attitude_filter.hpp"
 
 #include <cmath>
 #include <cstdio>

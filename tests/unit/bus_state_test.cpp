@@ -1,4 +1,4 @@
-#include "wheeltec/bus_state.hpp"
+#include "wheeltec/control/bus_state.hpp"
 
 #include <linux/can/error.h>
 

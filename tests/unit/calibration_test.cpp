@@ -4,7 +4,7 @@
 #include <numbers>
 #include <variant>
 
-#include "wheeltec/calibration.hpp"
+#include "wheeltec/telemetry/calibration.hpp"
 
 namespace wheeltec::calibration {
 namespace {

@@ -1,4 +1,4 @@
-#include "wheeltec/candump_log.hpp"
+#include "wheeltec/emulator/candump_log.hpp"
 
 #include <chrono>
 #include <string>

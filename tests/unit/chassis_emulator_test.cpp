@@ -1,4 +1,4 @@
-#include "wheeltec/chassis_emulator.hpp"
+#include "wheeltec/emulator/chassis_emulator.hpp"
 
 #include <chrono>
 #include <cmath>

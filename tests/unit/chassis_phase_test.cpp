@@ -1,4 +1,4 @@
-#include "wheeltec/chassis_phase.hpp"
+#include "wheeltec/control/chassis_phase.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "wheeltec/chassis_supervisor.hpp"
+#include "wheeltec/control/chassis_supervisor.hpp"
 
 #include <gtest/gtest.h>
 

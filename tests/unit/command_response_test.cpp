@@ -1,4 +1,4 @@
-#include "wheeltec/command_response.hpp"
+#include "wheeltec/control/command_response.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "wheeltec/config_checks.hpp"
+#include "wheeltec/config/config_checks.hpp"
 
 #include <optional>
 #include <string>

@@ -1,4 +1,4 @@
-#include "wheeltec/config_fields.hpp"
+#include "wheeltec/config/config_fields.hpp"
 
 #include <cstdint>
 #include <optional>

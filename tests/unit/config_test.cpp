@@ -1,4 +1,4 @@
-#include "wheeltec/config.hpp"
+#include "wheeltec/config/config.hpp"
 
 #include <cctype>
 #include <cmath>

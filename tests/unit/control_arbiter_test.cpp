@@ -1,4 +1,4 @@
-#include "wheeltec/control_arbiter.hpp"
+#include "wheeltec/control/control_arbiter.hpp"
 
 #include <gtest/gtest.h>
 

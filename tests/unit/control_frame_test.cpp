@@ -1,4 +1,4 @@
-#include "wheeltec/control_frame.hpp"
+#include "wheeltec/frames/control_frame.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace wheeltec {
 namespace {

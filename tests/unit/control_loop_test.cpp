@@ -1,4 +1,4 @@
-#include "control_loop.hpp"
+#include "control/control_loop.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "wheeltec/control_frame.hpp"
+#include "wheeltec/frames/control_frame.hpp"
 
 namespace wheeltec::daemon {
 namespace {

@@ -1,4 +1,4 @@
-#include "wheeltec/daemon_event.hpp"
+#include "wheeltec/api/daemon_event.hpp"
 
 #include <chrono>
 #include <string>

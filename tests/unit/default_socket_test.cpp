@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "wheeltec/client/connection.hpp"
-#include "wheeltec/config.hpp"
+#include "wheeltec/config/config.hpp"
 
 TEST(DefaultSocket, TheClientLibraryLooksWhereTheDaemonListens) {
   EXPECT_EQ(wheeltec::GatewayConfig{}.api.socket, wheeltec::client::kDefaultSocketPath);

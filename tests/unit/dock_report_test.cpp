@@ -1,4 +1,4 @@
-#include "wheeltec/dock_report.hpp"
+#include "wheeltec/frames/dock_report.hpp"
 
 #include <gtest/gtest.h>
 

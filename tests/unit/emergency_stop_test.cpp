@@ -1,4 +1,4 @@
-#include "wheeltec/emergency_stop.hpp"
+#include "wheeltec/control/emergency_stop.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

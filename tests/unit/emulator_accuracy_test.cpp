@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/chassis_emulator.hpp"
-#include "wheeltec/robot_models.hpp"
+#include "wheeltec/emulator/chassis_emulator.hpp"
+#include "wheeltec/emulator/robot_models.hpp"
 
 namespace wheeltec {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/chassis_emulator.hpp"
+#include "wheeltec/emulator/chassis_emulator.hpp"
 
 namespace wheeltec {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/charging_dock.hpp"
-#include "wheeltec/chassis_emulator.hpp"
+#include "wheeltec/frames/charging_dock.hpp"
+#include "wheeltec/emulator/chassis_emulator.hpp"
 
 namespace wheeltec {
 namespace {

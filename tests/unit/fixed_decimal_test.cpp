@@ -1,4 +1,4 @@
-#include "wheeltec/fixed_decimal.hpp"
+#include "wheeltec/frames/fixed_decimal.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/json_text.hpp"
+#include "wheeltec/config/json_text.hpp"
 
 namespace wheeltec::json_text {
 namespace {

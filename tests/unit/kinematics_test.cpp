@@ -1,4 +1,4 @@
-#include "wheeltec/kinematics.hpp"
+#include "wheeltec/control/kinematics.hpp"
 
 #include <cmath>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "wheeltec/line_framer.hpp"
+#include "wheeltec/frames/line_framer.hpp"
 
 #include <string>
 #include <vector>

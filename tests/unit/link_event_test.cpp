@@ -1,4 +1,4 @@
-#include "wheeltec/link_event.hpp"
+#include "wheeltec/frames/link_event.hpp"
 
 #include <gtest/gtest.h>
 #include <linux/can/netlink.h>

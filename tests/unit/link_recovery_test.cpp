@@ -1,4 +1,4 @@
-#include "wheeltec/link_recovery.hpp"
+#include "wheeltec/control/link_recovery.hpp"
 
 #include <gtest/gtest.h>
 

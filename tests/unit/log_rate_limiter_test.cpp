@@ -1,4 +1,4 @@
-#include "wheeltec/log_rate_limiter.hpp"
+#include "wheeltec/api/log_rate_limiter.hpp"
 
 #include <gtest/gtest.h>
 

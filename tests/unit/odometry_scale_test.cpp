@@ -3,9 +3,9 @@
 #include <chrono>
 #include <cmath>
 
-#include "wheeltec/odometry.hpp"
-#include "wheeltec/telemetry_decoder.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/telemetry/odometry.hpp"
+#include "wheeltec/telemetry/telemetry_decoder.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace wheeltec {
 namespace {

@@ -1,4 +1,4 @@
-#include "wheeltec/odometry.hpp"
+#include "wheeltec/telemetry/odometry.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "wheeltec/outbound_queue.hpp"
+#include "wheeltec/api/outbound_queue.hpp"
 
 #include <memory>
 #include <string>

@@ -14,8 +14,8 @@
 #include <cstring>
 #include <string>
 
-#include "control_policy.hpp"
-#include "peer_credentials.hpp"
+#include "api/control_policy.hpp"
+#include "api/peer_credentials.hpp"
 
 namespace {
 

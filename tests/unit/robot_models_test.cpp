@@ -1,4 +1,4 @@
-#include "wheeltec/robot_models.hpp"
+#include "wheeltec/emulator/robot_models.hpp"
 
 #include <set>
 #include <string>

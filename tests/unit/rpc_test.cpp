@@ -1,4 +1,4 @@
-#include "wheeltec/rpc.hpp"
+#include "wheeltec/api/rpc.hpp"
 
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "wheeltec/seconds.hpp"
+#include "wheeltec/config/seconds.hpp"
 
 #include <limits>
 

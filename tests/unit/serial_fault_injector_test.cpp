@@ -1,4 +1,4 @@
-#include "wheeltec/serial_fault_injector.hpp"
+#include "wheeltec/emulator/serial_fault_injector.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/serial_frame.hpp"
+#include "wheeltec/frames/serial_frame.hpp"
 
 namespace wheeltec::serial {
 namespace {

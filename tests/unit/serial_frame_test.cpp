@@ -2,7 +2,7 @@
 // frame, the firmware's non-sliding command receiver, the dock's charge frame, and the
 // daemon's sliding FrameFinder with its counters.
 
-#include "wheeltec/serial_frame.hpp"
+#include "wheeltec/frames/serial_frame.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@
 #include <variant>
 #include <vector>
 
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace wheeltec::serial {
 namespace {

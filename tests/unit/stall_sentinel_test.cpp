@@ -3,7 +3,7 @@
 // The link's descriptor is a pipe here: the sentinel writes the serial zero frame to what it
 // is handed.
 
-#include "stall_sentinel.hpp"
+#include "control/stall_sentinel.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -15,7 +15,7 @@
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/serial_frame.hpp"
+#include "wheeltec/frames/serial_frame.hpp"
 
 namespace wheeltec::daemon {
 namespace {

@@ -1,4 +1,4 @@
-#include "wheeltec/stall_watch.hpp"
+#include "wheeltec/control/stall_watch.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
-#include "wheeltec/telemetry_group.hpp"
+#include "wheeltec/emulator/telemetry_group.hpp"
 
 #include <bit>
 #include <chrono>
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/telemetry_reassembler.hpp"
+#include "wheeltec/frames/telemetry_reassembler.hpp"
 
 namespace wheeltec {
 namespace {

@@ -1,4 +1,4 @@
-#include "wheeltec/telemetry_json.hpp"
+#include "wheeltec/telemetry/telemetry_json.hpp"
 
 #include <chrono>
 #include <cmath>

@@ -3,7 +3,7 @@
 // corrupted records: every returned record and every counter must agree. The reassembler
 // has a fast path for the usual case; this catches it drifting from the rules.
 
-#include "wheeltec/telemetry_reassembler.hpp"
+#include "wheeltec/frames/telemetry_reassembler.hpp"
 
 #include <gtest/gtest.h>
 

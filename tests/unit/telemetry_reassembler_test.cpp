@@ -1,4 +1,4 @@
-#include "wheeltec/telemetry_reassembler.hpp"
+#include "wheeltec/frames/telemetry_reassembler.hpp"
 
 #include <gtest/gtest.h>
 

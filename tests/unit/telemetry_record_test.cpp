@@ -1,4 +1,4 @@
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 #include <gtest/gtest.h>
 

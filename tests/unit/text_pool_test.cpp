@@ -1,4 +1,4 @@
-#include "wheeltec/text_pool.hpp"
+#include "wheeltec/api/text_pool.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "wheeltec/velocity_ramp.hpp"
+#include "wheeltec/control/velocity_ramp.hpp"
 
 #include <gtest/gtest.h>
 

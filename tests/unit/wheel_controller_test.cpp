@@ -1,4 +1,4 @@
-#include "wheeltec/wheel_controller.hpp"
+#include "wheeltec/emulator/wheel_controller.hpp"
 
 #include <algorithm>
 #include <cmath>

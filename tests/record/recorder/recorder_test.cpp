@@ -18,7 +18,7 @@
 #include "mcap_checker.hpp"
 #include "serial_daemon.hpp"
 #include "test_environment.hpp"
-#include "wheeltec/telemetry_record.hpp"
+#include "wheeltec/frames/telemetry_record.hpp"
 
 namespace record_tests {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/config.hpp"
+#include "wheeltec/config/config.hpp"
 
 namespace wheeltec::record {
 namespace {

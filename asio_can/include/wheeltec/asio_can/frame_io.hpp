@@ -19,7 +19,7 @@
 #include <boost/system/error_code.hpp>
 
 #include "wheeltec/asio_can/raw_protocol.hpp"
-#include "wheeltec/can_frame.hpp"
+#include "wheeltec/frames/can_frame.hpp"
 #include "wheeltec/clocks.hpp"
 
 namespace wheeltec::asio_can {

@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "wheeltec/log_rate_limiter.hpp"
+#include "wheeltec/api/log_rate_limiter.hpp"
 
 namespace wheeltec::service {
 

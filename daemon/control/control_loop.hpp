@@ -1,0 +1,104 @@
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <optional>
+
+#include "wheeltec/control/chassis_supervisor.hpp"
+#include "wheeltec/config/config.hpp"
+#include "wheeltec/api/log_rate_limiter.hpp"
+
+#include "control_ports.hpp"
+#include "api/event_sink.hpp"
+
+namespace wheeltec::daemon {
+
+struct DriveResult {
+  DriveDecision decision;
+  Velocity sent;          // the target as it will be sent (rounded and clamped), SI units
+  bool clamped = false;
+};
+
+// The chassis supervisor's hands and clock: it tells the supervisor what happened, with the
+// time, and carries out what the supervisor decides on the link, with the timing of the
+// contract (spec "CAN side" and section 8): the command frame every 1/rate_hz while enabled
+// plus one at once when the target changes, the enable frame when control becomes enabled
+// and every enable_refresh_s where the link wants it, the first frame zero (at start and
+// whenever the link comes back), a timer at the
+// owner's deadline (the deadman, no polling) and one at the chassis' offline deadline, zero
+// then disable on shutdown; and, while control is enabled, the stall guard's heartbeat. A
+// deadman that stops a moving chassis is reported to the events.
+class ControlLoop {
+ public:
+  // Something the status shows may have changed; the handler compares the status (the one
+  // place that does). Not called for record(): its caller compares after every record.
+  using ChangeHandler = std::function<void()>;
+
+  // The ports, the supervisor and the events must outlive the loop.
+  ControlLoop(const ControlPorts& ports, ChassisSupervisor& supervisor, const GatewayConfig& config,
+              EventSink& events);
+
+  void on_change(ChangeHandler handler) { change_handler_ = std::move(handler); }
+
+  // Sends the zero command, then enables control if control.auto_enable.
+  void start();
+
+  DriveResult drive(ClientId client, const Velocity& target);
+  void stop();                        // zero now, release control (from any client)
+  EnableOutcome enable();             // enable frame, periodic frames start
+  void disable();                     // zero, then disable frame, periodic frames stop
+  // The emergency stop: zero now (even when it already was), control released, the latch
+  // kept in the state file, the event; false when already latched (nothing changes).
+  bool estop(const Latch& latch);
+  // Clears the latch (kept in the state file, the event); false when it was not latched.
+  bool release(std::optional<ClientId> by);
+  void client_gone(ClientId client);  // zero at once if it held control
+  void link_changed(LinkState state); // up again: resend enable and the current command
+  void record(const PhaseInput& record);  // a telemetry record was accepted
+
+  // Zero velocity, then the disable frame if disable_on_exit; timers stopped.
+  void shutdown();
+
+  const SafetyState& safety() const { return supervisor_.safety(); }
+
+  // Run-time changes (SIGHUP reload).
+  void apply(const GatewayConfig& config);
+
+ private:
+  // The supervisor's frame now, unless the link is down (link_changed() catches up).
+  void send_frame();
+  // Every stop's last step: no deadman left to fire, the (zero) frame out at once.
+  void send_zero_now();
+  void send_enable(bool enable);
+  void start_periodic();
+  void on_period();
+  void start_enable_refresh();
+  void arm_enable_timer();
+  void arm_deadman();
+  void cancel_deadman();
+  void latch_changed();
+  // If the owner's deadline has passed: zero frame, control released; true if so.
+  bool release_if_lapsed();
+  // Control lapsed at `now` (zero already sent): the deadman event, if the chassis was moving.
+  void report_lapse(const ControlLapse& lapse, MonotonicNanos now);
+  void arm_offline_timer();
+  void may_have_changed();
+
+  ControlPorts ports_;
+  ChassisSupervisor& supervisor_;
+  GatewayConfig config_;
+  EventSink& events_;
+  // Control released because its owner left or stopped driving: a remote operator can do
+  // either as often as it likes, through a bridge.
+  LogRateLimiter released_log_;
+  std::chrono::nanoseconds enable_refresh_{};
+  MonotonicNanos next_enable_{};
+  std::optional<MonotonicNanos> deadman_expiry_;  // of the deadman timer's wait under way
+  std::optional<MonotonicNanos> offline_expiry_;  // of the offline timer's wait under way
+  ChangeHandler change_handler_;
+};
+
+// The supervisor's settings from the configuration.
+SupervisorSettings supervisor_settings(const GatewayConfig& config);
+
+}  // namespace wheeltec::daemon
