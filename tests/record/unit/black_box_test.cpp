@@ -282,6 +282,30 @@ TEST(BlackBox, RetentionDeletesTheOldestFilesAndKeepsTheNewOne) {
   EXPECT_TRUE(store.files.contains("notes.txt"));
 }
 
+// Issue 41 item 5: with a limit below one incident's size, each incident was deleted as
+// soon as it was written. Now the newest is kept, and the one before it goes.
+TEST(BlackBox, ALimitBelowOneFileKeepsTheNewestIncident) {
+  BlackBoxSettings tiny = settings(2s, 1s);
+  tiny.max_bytes = 1'000;
+  Rig rig(tiny);
+  auto& [store, box, feed] = rig;
+  feed.run_for(3s);
+  const RealtimeNanos first = feed.event("mark");
+  feed.run_for(2s);
+  const std::string first_name = file_name(first, Trigger::mark);
+  ASSERT_EQ(store.whole_names(), std::vector<std::string>{first_name});
+  EXPECT_GT(store.files.at(first_name).size(), tiny.max_bytes);
+  mcap_test::check_mcap(store.files.at(first_name));
+
+  feed.run_for(2s);
+  const RealtimeNanos second = feed.event("mark");
+  feed.run_for(500ms);  // while the second is written, the first is still the newest finished one
+  EXPECT_EQ(store.whole_names(), std::vector<std::string>{first_name});
+  feed.run_for(1500ms);
+  EXPECT_EQ(store.whole_names(), std::vector<std::string>{file_name(second, Trigger::mark)});
+  EXPECT_EQ(box.files_written(), 2u);
+}
+
 TEST(BlackBox, AFileThatCannotBeWrittenIsDroppedAndTheNextOneIsWhole) {
   Rig rig(settings(2s, 1s));
   auto& [store, box, feed] = rig;
