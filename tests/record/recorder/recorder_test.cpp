@@ -404,6 +404,40 @@ TEST_F(Recorder, AFileFromTheEmulatorHoldsEveryRecordOfItsWindow) {
   EXPECT_EQ(drives, 10);
 }
 
+// Protocol 5 (spec section 12): every `estop` event is a trigger, on by default. A suite of
+// its own, so that ctest -L safety runs it.
+class RecorderSafety : public Recorder {};
+
+TEST_F(RecorderSafety, AnEmergencyStopMakesAnEstopFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "1"}, 2s);
+  auto operator_client = daemon.connect();
+  operator_client.call("estop", {{"reason", "operator pressed E-STOP"}});
+  expect_one_file_for("estop", 5s);
+  const auto file = read_back(names_ending(".mcap").at(0));
+  bool seen = false;
+  for (const auto* message : on(file, kEvents)) {
+    const Json event = Json::parse(message->payload);
+    if (event["event"] != "estop") continue;
+    seen = true;
+    EXPECT_EQ(event["source"], "client");
+    EXPECT_EQ(event["reason"], "operator pressed E-STOP");
+  }
+  EXPECT_TRUE(seen);
+  operator_client.call("release");
+}
+
+TEST_F(RecorderSafety, NoTriggerEstopMakesNoFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "0.5", "--no-trigger", "estop"}, 1s);
+  auto operator_client = daemon.connect();
+  operator_client.call("estop", {{"reason", "not recorded"}});
+  std::this_thread::sleep_for(2s);
+  EXPECT_TRUE(names_ending(".mcap").empty()) << recorder_->output_report();
+  EXPECT_TRUE(names_ending(".part").empty());
+  operator_client.call("release");
+}
+
 TEST_F(Recorder, ADirItCannotWriteIsExit2NamingIt) {
   const auto completed = integration::run_program(
       WHEELTEC_RECORD_PATH, {"--config", empty_config_.string(), "--dir", "/proc/wheeltec-record"}, directory_->path());

@@ -192,6 +192,31 @@ TEST(BlackBox, ASecondTriggerInsideTheWindowExtendsTheSameFile) {
             triggers_json({{Trigger::mark, first}, {Trigger::deadman, second}}));
 }
 
+TEST(BlackBox, AnEmergencyStopWritesAnEstopFile) {
+  Rig rig(settings(3s, 1s));
+  auto& [store, box, feed] = rig;
+  feed.ready_for(4s);
+  Json estop = event_at(feed.now(), "estop");
+  estop["source"] = "client";
+  estop["reason"] = "operator pressed E-STOP";
+  const RealtimeNanos latched = feed.now();
+  box.on_event(estop, latched);
+  feed.run_for(500ms);
+  Json release = event_at(feed.now(), "release");  // no trigger, but recorded in the same file
+  box.on_event(release, feed.now());
+  feed.run_for(2s);
+
+  const std::string name = file_name(latched, Trigger::estop);
+  ASSERT_EQ(store.whole_names(), std::vector<std::string>{name});
+  EXPECT_TRUE(name.ends_with("-estop.mcap")) << name;
+  const auto file = mcap_test::check_mcap(store.files.at(name));
+  const auto events = on_channel(file, Channel::events);
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(Json::parse(events[0].payload), estop);
+  EXPECT_EQ(Json::parse(events[1].payload)["event"], "release");
+  EXPECT_EQ(file.metadata.at(0).second.at("triggers"), triggers_json({{Trigger::estop, latched}}));
+}
+
 TEST(BlackBox, ATriggerAfterTheWindowStartsASecondFile) {
   Rig rig(settings(2s, 1s));
   auto& [store, box, feed] = rig;
