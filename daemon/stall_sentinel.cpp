@@ -21,16 +21,6 @@
 namespace wheeltec::daemon {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-// How long the control frames may pause before the sentinel sends zero in the daemon's
-// place: well above the pauses a loaded machine causes (the soak saw under 0.33 s), and
-// with the sentinel's polling well below the 1 s within which a hung daemon must have
-// stopped the chassis.
-constexpr auto kStallDelay = std::chrono::milliseconds(500);
-constexpr int kStallPeriods = 3;  // at low control rates: this many periods instead
-constexpr auto kPoll = std::chrono::milliseconds(100);
-
 // The fd the sentinel keeps its end of the port channel on, all others closed.
 constexpr int kChannelFd = 3;
 
@@ -84,11 +74,6 @@ void report(const char* text) {
 }
 
 }  // namespace
-
-StallSentinel::Timing StallSentinel::timing_for_rate(double rate_hz) {
-  const auto period = std::chrono::milliseconds(std::max<long>(1, std::lround(1000.0 / rate_hz)));
-  return Timing{std::max<std::chrono::milliseconds>(kStallDelay, kStallPeriods * period), period, kPoll};
-}
 
 StallSentinel::StallSentinel(ZeroFrame zero, Timing timing) : zero_(std::move(zero)), timing_(timing) {}
 
@@ -191,27 +176,19 @@ void StallSentinel::run(Shared& shared, const ZeroFrame& zero, int port_channel,
     pollfd readable{channel, POLLIN, 0};
     if (::poll(&readable, 1, static_cast<int>(interval.count())) > 0) sender.take_messages(channel);
   };
-  std::uint64_t seen = shared.beats.load(std::memory_order_acquire);
-  auto moved = Clock::now();
-  bool stalled = false;
+  StallWatch watch(shared.beats.load(std::memory_order_acquire), std::chrono::steady_clock::now());
   for (;;) {
-    const std::chrono::milliseconds delay(shared.delay_ms.load(std::memory_order_relaxed));
-    const std::chrono::milliseconds repeat(shared.repeat_ms.load(std::memory_order_relaxed));
-    wait(stalled ? repeat : poll);
-    const auto now = Clock::now();
-    const std::uint64_t beats = shared.beats.load(std::memory_order_acquire);
-    const bool armed = shared.armed.load(std::memory_order_acquire) != 0;
-    if (beats != seen || !armed) {
-      if (stalled) report("control frames resumed");
-      seen = beats;
-      moved = now;
-      stalled = false;
-      continue;
+    const Timing timing{std::chrono::milliseconds(shared.delay_ms.load(std::memory_order_relaxed)),
+                        std::chrono::milliseconds(shared.repeat_ms.load(std::memory_order_relaxed)), poll};
+    wait(watch.next_wait(timing));
+    const StallLook look = watch.look(shared.beats.load(std::memory_order_acquire),
+                                      shared.armed.load(std::memory_order_acquire) != 0,
+                                      std::chrono::steady_clock::now(), timing.delay);
+    if (look.change == StallChange::resumed) report("control frames resumed");
+    if (look.change == StallChange::stalled) {
+      report("the daemon sent no control frame for too long: sending zero velocity in its place");
     }
-    if (now - moved < delay) continue;
-    if (!stalled) report("the daemon sent no control frame for too long: sending zero velocity in its place");
-    stalled = true;
-    sender.send();
+    if (look.send_zero) sender.send();
   }
 }
 

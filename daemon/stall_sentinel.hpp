@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "wheeltec/stall_watch.hpp"
+
 namespace wheeltec::daemon {
 
 // A small process of the daemon's own that sends the zero control frame when the daemon
@@ -24,11 +26,7 @@ namespace wheeltec::daemon {
 // none of its other files.
 class StallSentinel {
  public:
-  struct Timing {
-    std::chrono::milliseconds delay;
-    std::chrono::milliseconds repeat;
-    std::chrono::milliseconds poll;
-  };
+  using Timing = StallTiming;  // when a pause is a stall: StallWatch (lib) decides
 
   // What the sentinel writes in the daemon's place: the link's zero frame, as the link
   // writes it to its descriptor.
@@ -57,8 +55,7 @@ class StallSentinel {
     if (shared_) shared_->armed.store(0, std::memory_order_release);
   }
 
-  // Also the sentinel's timing for `rate_hz` control frames per second.
-  static Timing timing_for_rate(double rate_hz);
+  static Timing timing_for_rate(double rate_hz) { return stall_timing_for_rate(rate_hz); }
 
  private:
   struct Shared {
