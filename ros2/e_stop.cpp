@@ -1,21 +1,10 @@
 #include "e_stop.hpp"
 
 namespace wheeltec::ros2 {
-namespace {
-
-std::string text_member(const client::Json& object, const char* key) {
-  const auto found = object.find(key);
-  return found != object.end() && found->is_string() ? found->get<std::string>() : std::string();
-}
-
-}  // namespace
 
 EStop e_stop_of(const client::Status& status) {
-  const auto safety = status.json.find("safety");
-  if (safety == status.json.end() || !safety->is_object()) return {};
-  const auto latched = safety->find("latched");
-  if (latched == safety->end() || *latched != true) return {};
-  return EStop{true, text_member(*safety, "source"), text_member(*safety, "reason")};
+  if (!status.safety || !status.safety->latched) return {};
+  return EStop{true, status.safety->source.value_or(""), status.safety->reason.value_or("")};
 }
 
 std::string describe_latched(const EStop& e_stop) {

@@ -20,7 +20,7 @@ struct EStop {
 };
 
 // The status' `safety`; not latched for a daemon that has none (before protocol 5: it
-// cannot latch) or whose `safety` is not of the expected shape.
+// cannot latch).
 EStop e_stop_of(const client::Status& status);
 
 // "emergency stop latched by client: operator pressed E-STOP", without ": REASON" when the

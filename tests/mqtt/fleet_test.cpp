@@ -324,8 +324,8 @@ class MqttSafety : public MqttFleet {
   // The reply with this id on the robot's cmd/result.
   static std::optional<Json> reply_with_id(const fleet::Subscription& results, const std::string& id) {
     for (const auto& message : results.wait_for(1000, "", 3s)) {
-      const Json answer = Json::parse(message.payload);
-      if (answer["id"] == id) return answer;
+      const Json answer = Json::parse(message.payload, nullptr, false);
+      if (answer.is_object() && answer.value("id", Json()) == id) return answer;
     }
     return std::nullopt;
   }
@@ -357,11 +357,15 @@ TEST_F(MqttSafety, CmdEstopLatchesTheRobotUntilCmdRelease) {
   ASSERT_TRUE(answer) << "no reply to estop";
   EXPECT_EQ((*answer)["command"], "estop");
   EXPECT_EQ((*answer)["result"], Json::object()) << answer->dump();
-  // The operator's drives are answered with the daemon's refusal, the safety object with it.
-  const auto refusal = reply_with_id(results, "d");
-  ASSERT_TRUE(refusal);
-  EXPECT_EQ((*refusal)["error"]["code"], -32007) << refusal->dump();
-  EXPECT_EQ((*refusal)["error"]["data"]["latched"], true) << refusal->dump();
+  // The operator's drives since are answered with the daemon's refusal, the safety object with it.
+  std::optional<Json> refusal;
+  for (const auto& message : results.wait_for(1000, "", 2s)) {
+    const Json answer = Json::parse(message.payload, nullptr, false);
+    if (answer.is_object() && answer.value("id", Json()) == "d" && answer.contains("error")) refusal = answer;
+  }
+  ASSERT_TRUE(refusal) << "no drive refused while latched";
+  EXPECT_EQ(refusal->value("/error/code"_json_pointer, 0), -32007) << refusal->dump();
+  EXPECT_EQ(refusal->value("/error/data/latched"_json_pointer, false), true) << refusal->dump();
   driver->kill();
 
   // The retained status carries the daemon's safety object.
@@ -388,14 +392,10 @@ TEST_F(MqttSafety, OneMessageOnAllCmdEstopStopsTheWholeFleet) {
   ASSERT_TRUE(bus1.wait_for(is_moving_frame, 6s)) << "r2 does not drive";
   bus0.discard_pending();
   bus1.discard_pending();
-  const auto sent = integration::WallClock::now();
   fleet::publish(*broker_, dir(), "wheeltec/all/cmd/estop", "");  // empty: no reason
-  const auto zero0 = bus0.wait_for(is_zero, 1s);
-  const auto zero1 = bus1.wait_for(is_zero, 1s);
-  ASSERT_TRUE(zero0) << "r1 not stopped";
-  ASSERT_TRUE(zero1) << "r2 not stopped";
-  std::cout << "all/cmd/estop -> zero frame: r1 " << integration::seconds_between(sent, zero0->time) * 1000
-            << " ms, r2 " << integration::seconds_between(sent, zero1->time) * 1000 << " ms\n";
+  // Within mosquitto_pub's start (the latency itself is bench-mqtt's).
+  ASSERT_TRUE(bus0.wait_for(is_zero, 2s)) << "r1 not stopped";
+  ASSERT_TRUE(bus1.wait_for(is_zero, 1s)) << "r2 not stopped";
   EXPECT_TRUE(bus0.collect(is_moving_frame, 700ms).empty());
   EXPECT_TRUE(bus1.take_pending(is_moving_frame).empty());
   d1->kill();
@@ -427,30 +427,22 @@ TEST_F(MqttSafety, OneMessageOnAllCmdEstopStopsTheWholeFleet) {
   release(*r2_);
 }
 
-// A retained command is not executed when a bridge subscribes (a broker hands it over
-// again each time), but a stop is still a stop: a retained estop latches.
-TEST_F(MqttSafety, ARetainedEstopLatchesButARetainedReleaseIsNotExecuted) {
-  EXPECT_TRUE(r2_->bridge().terminate().exited_with(0));
-  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/estop", R"({"reason":"left retained"})", {"-r"});
-  r2_->start_bridge();
-  wait_online(*r2_);
-  const Json status = status_when(*r2_, latched);
-  ASSERT_TRUE(latched(status)) << "a retained estop was not executed: " << status.dump();
-  EXPECT_EQ(status["safety"]["reason"], "left retained");
-  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/estop", "", {"-r"});  // clears it (an estop: no change)
-
+// A release left retained does not release a robot when its bridge subscribes again (MQTT 5
+// subscriptions get no retained messages; a 3.1.1 bridge refuses them). The latch is the
+// daemon's own and outlives the bridge.
+TEST_F(MqttSafety, AReleaseLeftRetainedReleasesNothing) {
+  r2_->gateway().connect().call("estop", {{"reason", "before the bridge came back"}});
+  ASSERT_TRUE(latched(status_when(*r2_, latched)));
   EXPECT_TRUE(r2_->bridge().terminate().exited_with(0));
   fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/release", R"({"id":"r9"})", {"-r"});
-  fleet::Subscription results(*broker_, dir(), {"wheeltec/r2/cmd/result"});
   r2_->start_bridge();
   wait_online(*r2_);
-  const auto refusal = reply_with_id(results, "r9");
-  ASSERT_TRUE(refusal) << "no reply to the retained release";
-  EXPECT_EQ((*refusal)["error"]["code"], -32600) << refusal->dump();
-  EXPECT_TRUE(latched(status_when(*r2_, latched))) << "a retained release was executed";
-  EXPECT_EQ(status_when(*r2_, latched)["safety"]["reason"], "left retained");  // the first reason stays
-  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/release", "", {"-r"});  // clears it
-  release(*r2_);
+  std::this_thread::sleep_for(1s);
+  const Json status = status_when(*r2_, latched);
+  EXPECT_TRUE(latched(status)) << "a retained release was executed: " << status.dump();
+  EXPECT_EQ(status["safety"]["reason"], "before the bridge came back");
+  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/release", "", {"-r"});  // clears it (and is a release)
+  EXPECT_TRUE(not_latched(status_when(*r2_, not_latched)));
 }
 
 }  // namespace

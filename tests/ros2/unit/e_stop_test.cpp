@@ -31,11 +31,10 @@ TEST(Ros2EStop, ReadsTheStatusSafetyObject) {
   EXPECT_EQ(e_stop_of(status_with(kNoReason)), (EStop{true, "client", ""}));
 }
 
-TEST(Ros2EStop, ADaemonWithoutSafetyOrAStrangeOneIsNotLatched) {
-  EXPECT_FALSE(e_stop_of(status_with(nullptr)).latched);
-  EXPECT_FALSE(e_stop_of(status_with("true")).latched);
-  EXPECT_FALSE(e_stop_of(status_with(R"({"latched":"yes"})")).latched);
-  EXPECT_EQ(e_stop_of(status_with(R"({"latched":true,"source":3})")), (EStop{true, "", ""}));
+TEST(Ros2EStop, ADaemonWithoutSafetyIsNotLatched) {
+  EXPECT_FALSE(e_stop_of(status_with(nullptr)).latched);  // protocol 4: it cannot latch
+  EXPECT_EQ(e_stop_of(status_with(R"({"latched":true,"source":null,"reason":null,"since":null,"by":null})")),
+            (EStop{true, "", ""}));
 }
 
 TEST(Ros2EStop, IsPublishedAtTheFirstStatusAndOnEveryChangeOnly) {
