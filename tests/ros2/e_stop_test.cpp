@@ -25,6 +25,9 @@ using BoolReader = ros2_side::TopicReader<std_msgs::msg::BoolPubSubType>;
 using DiagnosticsReader = ros2_side::TopicReader<diagnostic_msgs::msg::DiagnosticArrayPubSubType>;
 
 constexpr auto kEStopMatchTimeout = 10s;
+// The writer matches the bridge's reader before the bridge's side has matched the writer; a
+// single message written in between can be lost (why `ros2 topic pub` waits for subscribers).
+constexpr auto kBothSidesMatched = 500ms;
 
 class Ros2Safety : public Ros2Bridge {
  protected:
@@ -99,6 +102,7 @@ TEST_F(Ros2Safety, EStopTriggerLatchesTheDaemonUnderADrivingCmdVel) {
 
   ros2_side::EmptyWriter trigger(participant(), "rt/e_stop_trigger");
   ASSERT_TRUE(trigger.wait_matched(kEStopMatchTimeout)) << "the bridge does not subscribe e_stop_trigger";
+  std::this_thread::sleep_for(kBothSidesMatched);
   bus.discard_pending();
   const auto triggered = integration::WallClock::now();
   trigger.publish();
@@ -135,7 +139,9 @@ TEST_F(Ros2Safety, EStopTriggerLatchesTheDaemonUnderADrivingCmdVel) {
 
   // Released elsewhere (wheeltecctl release): e_stop follows, diagnostics recover.
   gateway().connect().call("release");
-  EXPECT_TRUE(wait_e_stop(e_stop, false, 2s) && e_stop.samples().back().message.data() == false);
+  const auto after_release = e_stop.wait_for_count(3, 2s);  // false at start, true, false
+  ASSERT_EQ(after_release.size(), 3u);
+  EXPECT_FALSE(after_release.back().message.data());
   EXPECT_TRUE(wait_level(diagnostics, diagnostic_msgs::msg::DiagnosticStatus_Constants::OK, 3s));
 }
 
@@ -148,6 +154,7 @@ TEST_F(Ros2Safety, WithAllowEStopResetEStopResetReleases) {
 
   ros2_side::EmptyWriter reset(participant(), "rt/e_stop_reset");
   ASSERT_TRUE(reset.wait_matched(kEStopMatchTimeout)) << "e_stop_reset is not subscribed";
+  std::this_thread::sleep_for(kBothSidesMatched);
   reset.publish();
   EXPECT_TRUE(wait_latched(false, 2s)) << "e_stop_reset did not release: " << safety().dump();
   const auto released = e_stop.wait_for_count(3, 2s);
