@@ -137,7 +137,8 @@ void Bridge::handle_message(const MqttMessage& message) {
     return;
   }
   const auto& request = std::get<CommandRequest>(parsed);
-  if (message.retained && *command != Command::stop) {
+  // A stop left retained is still a stop: executing it again is the safe side.
+  if (message.retained && *command != Command::stop && *command != Command::estop) {
     ++counters_.commands_refused;
     send_reply(target, error_reply(*command, request.id,
                                    error_object(kInvalidRequest, "retained commands are not executed")));

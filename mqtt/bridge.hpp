@@ -6,7 +6,8 @@
 //    stops sending lets the daemon's deadman stop the robot;
 //  - losing the broker sends `stop` at once and closes every operator's daemon connection;
 //  - retained commands (which a broker would hand over again on every subscription) are
-//    not executed, `stop` aside.
+//    not executed, `stop` and `estop` aside;
+//  - PREFIX/all/cmd/estop is every bridge's too: one message latches the whole fleet.
 
 #include <chrono>
 #include <cstdint>

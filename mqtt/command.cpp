@@ -13,11 +13,19 @@ CommandRefusal refuse(int code, std::string message, Json id = nullptr) {
   return CommandRefusal{code, std::move(message), std::move(id)};
 }
 
+// `text` cut to at most `bytes` bytes, at a character boundary (text is valid UTF-8).
+std::string utf8_prefix(const std::string& text, std::size_t bytes) {
+  if (text.size() <= bytes) return text;
+  std::size_t end = bytes;
+  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
+  return text.substr(0, end);
+}
+
 }  // namespace
 
 ParsedCommand parse_command(Command command, std::string_view payload) {
   CommandRequest request{command, nullptr, nullptr, std::nullopt};
-  const bool lenient = command == Command::stop;
+  const bool lenient = command == Command::stop || command == Command::estop;
   if (payload.size() > kMaxCommandBytes) {
     if (lenient) return request;
     return refuse(kInvalidRequest, "payload larger than " + std::to_string(kMaxCommandBytes) + " bytes");
@@ -64,12 +72,16 @@ ParsedCommand parse_command(Command command, std::string_view payload) {
       request.operator_name = value.get<std::string>();
       continue;
     }
+    if (command == Command::estop && key == "reason") {
+      if (value.is_string()) params["reason"] = utf8_prefix(value.get<std::string>(), kMaxEstopReasonBytes);
+      continue;
+    }
     if (lenient) continue;
     if (command != Command::drive) return refuse(kInvalidParams, "unknown param \"" + key + "\"", request.id);
     if (auto problem = read_drive_member(key, value, velocity)) return refuse(kInvalidParams, *problem, request.id);
     params[key] = value.get<double>();
   }
-  if (command == Command::drive) request.params = std::move(params);
+  if (command == Command::drive || (command == Command::estop && !params.empty())) request.params = std::move(params);
   return request;
 }
 

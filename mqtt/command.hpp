@@ -5,8 +5,10 @@
 //
 // Payload: empty, or a JSON object. `drive` takes "vx", "vy", "wz" (numbers, absent = 0);
 // every command may carry "id" (a string or number, echoed in the reply: the correlation
-// of MQTT 3.1.1 clients) and "operator" (who sends it, see operator_sessions.hpp). `stop`
-// is never refused, whatever its payload.
+// of MQTT 3.1.1 clients) and "operator" (who sends it, see operator_sessions.hpp). `estop`
+// takes "reason" (a string). `stop` and `estop` are never refused, whatever their payload:
+// what cannot be read is left out, and an estop's reason longer than the daemon takes is
+// cut, so that a badly written emergency stop still stops.
 
 #include <cstddef>
 #include <optional>
@@ -26,6 +28,8 @@ using Json = nlohmann::ordered_json;
 
 inline constexpr std::size_t kMaxCommandBytes = 64 * 1024;  // the daemon's line limit
 inline constexpr std::size_t kMaxOperatorNameBytes = 128;
+// The daemon takes a reason of at most 200 characters; 200 bytes are that many at most.
+inline constexpr std::size_t kMaxEstopReasonBytes = 200;
 
 // The JSON-RPC error codes the bridge itself answers with are wheeltecd's list's
 // (kParseError, kInvalidRequest, kInvalidParams, kTooManyOperators, kDaemonUnreachable).

@@ -59,6 +59,8 @@ std::string_view command_name(Command command) {
     case Command::enable: return "enable";
     case Command::disable: return "disable";
     case Command::reset_odometry: return "reset_odometry";
+    case Command::estop: return "estop";
+    case Command::release: return "release";
   }
   return "?";
 }
@@ -67,6 +69,10 @@ std::optional<std::string> prefix_problem(std::string_view prefix) { return leve
 
 std::optional<std::string> robot_name_problem(std::string_view robot) {
   if (robot.find('/') != std::string_view::npos) return "holds '/' (a robot name is one topic level)";
+  if (robot == kFleetName) {
+    return "\"" + std::string(kFleetName) + "\" is reserved: PREFIX/" + std::string(kFleetName) +
+           "/cmd/estop is the whole fleet's emergency stop";
+  }
   return levels_problem(robot);
 }
 
@@ -76,13 +82,16 @@ Topics::Topics(std::string_view prefix, std::string_view robot)
       status_(base_ + "/status"),
       online_(base_ + "/online"),
       stats_(base_ + "/stats"),
-      result_(base_ + "/cmd/result") {
+      result_(base_ + "/cmd/result"),
+      fleet_estop_(std::string(prefix) + "/" + std::string(kFleetName) + "/cmd/estop") {
   for (const Command each : kCommands) command_topics_.push_back(command(each));
+  command_topics_.push_back(fleet_estop_);
 }
 
 std::string Topics::command(Command command) const { return base_ + "/cmd/" + std::string(command_name(command)); }
 
 std::optional<Command> Topics::command_of(std::string_view topic) const {
+  if (topic == fleet_estop_) return Command::estop;
   const std::string head = base_ + "/cmd/";
   if (topic.substr(0, head.size()) != head) return std::nullopt;
   const std::string_view name = topic.substr(head.size());

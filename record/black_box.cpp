@@ -235,6 +235,7 @@ void BlackBox::close_file(std::unique_ptr<OpenFile> file, const std::vector<Fire
     file->writer().finish();
     file->output().commit();
     ++files_written_;
+    last_finished_ = file->name();
     spdlog::info("{} written ({} bytes)", file->name(), file->writer().bytes_written());
   } catch (const std::exception& error) {
     spdlog::error("{}: {}", file->name(), error.what());
@@ -244,13 +245,23 @@ void BlackBox::close_file(std::unique_ptr<OpenFile> file, const std::vector<Fire
 }
 
 void BlackBox::apply_retention() {
-  std::vector<std::string> being_written;
-  if (incident_) being_written.push_back(part_name(incident_->name()));
-  if (continuous_) being_written.push_back(part_name(continuous_->name()));
+  RetentionInput input;
+  input.max_bytes = settings_.max_bytes;
+  input.last_finished = last_finished_;
+  if (incident_) input.being_written.push_back(part_name(incident_->name()));
+  if (continuous_) input.being_written.push_back(part_name(continuous_->name()));
   try {
-    for (const std::string& name : files_to_delete(files_.list(), settings_.max_bytes, being_written)) {
+    input.files = files_.list();
+    const RetentionPlan plan = plan_retention(input);
+    for (const std::string& name : plan.remove) {
       files_.remove(name);
       spdlog::info("{} deleted: the files exceeded max_bytes ({})", name, settings_.max_bytes);
+    }
+    if (plan.kept_over_limit && plan.kept_over_limit->name != reported_over_limit_) {
+      reported_over_limit_ = plan.kept_over_limit->name;
+      spdlog::warn("{} ({} bytes) kept although the files add up to {} bytes, over max_bytes ({}): the newest "
+                   "file is never deleted",
+                   plan.kept_over_limit->name, plan.kept_over_limit->bytes, plan.bytes_kept, settings_.max_bytes);
     }
   } catch (const std::exception& error) {
     spdlog::error("retention: {}", error.what());

@@ -98,6 +98,8 @@ class BlackBox {
   std::unique_ptr<OpenFile> incident_;
   std::unique_ptr<OpenFile> continuous_;
   std::uint64_t files_written_ = 0;
+  std::optional<std::string> last_finished_;  // the file committed last, kept by retention
+  std::string reported_over_limit_;           // logged once, not at every retention pass
 };
 
 }  // namespace wheeltec::record

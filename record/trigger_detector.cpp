@@ -24,6 +24,7 @@ std::optional<Trigger> trigger_of_event(const Json& event) {
   if (name == "deadman") return Trigger::deadman;
   if (name == "refused") return Trigger::refused;
   if (name == "mark") return Trigger::mark;
+  if (name == "estop") return Trigger::estop;
   return std::nullopt;
 }
 

@@ -32,6 +32,7 @@ std::string_view trigger_name(Trigger trigger) {
     case Trigger::refused: return "refused";
     case Trigger::daemon_lost: return "daemon-lost";
     case Trigger::mark: return "mark";
+    case Trigger::estop: return "estop";
   }
   return "?";
 }

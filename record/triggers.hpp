@@ -27,13 +27,15 @@ enum class Trigger {
   refused,           // a `refused` event
   daemon_lost,       // the daemon's socket closed
   mark,              // a `mark` event
+  estop,             // an `estop` event: a client's or a hazard's emergency stop (protocol 5)
 };
 inline constexpr std::array kTriggers{
     Trigger::deadman,     Trigger::halted,           Trigger::reboot,  Trigger::link_down,   Trigger::offline,
-    Trigger::battery_low, Trigger::commands_ignored, Trigger::refused, Trigger::daemon_lost, Trigger::mark};
+    Trigger::battery_low, Trigger::commands_ignored, Trigger::refused, Trigger::daemon_lost, Trigger::mark,
+    Trigger::estop};
 
 // "deadman", "halted", "reboot", "link-down", "offline", "battery-low", "commands-ignored",
-// "refused", "daemon-lost", "mark".
+// "refused", "daemon-lost", "mark", "estop".
 std::string_view trigger_name(Trigger trigger);
 std::optional<Trigger> trigger_of_name(std::string_view name);
 

@@ -61,6 +61,8 @@ Bridge::Bridge(boost::asio::io_context& io, Ros2Config config)
                      sensor_msgs_msg_dds__BatteryState__desc, kDepth),
       charging_flag_(participant_, dds_topic(config_.name_space, "robot_charging_flag"), std_msgs_msg_dds__Bool__desc,
                      kDepth),
+      e_stop_(participant_, dds_topic(config_.name_space, "e_stop"), std_msgs_msg_dds__Bool__desc, 1,
+              Durability::transient_local),
       once_a_second_timer_(io) {
   if (config_.publish_tf) {
     tf_.emplace(participant_, dds_topic(config_.name_space, "tf"), tf2_msgs_msg_dds__TFMessage__desc, kTfDepth);
@@ -88,12 +90,24 @@ void Bridge::start() {
       [this](const geometry_msgs_msg_dds__Twist_& twist) {
         if (cmd_vel_mailbox_.put(twist)) boost::asio::post(io_, [this] { handle_cmd_vel(); });
       });
+  e_stop_trigger_ = std::make_unique<EmptyReader>(participant_, dds_topic(config_.name_space, "e_stop_trigger"), [this] {
+    request(e_stop_trigger_pending_, &Bridge::handle_e_stop_trigger);
+  });
+  if (config_.allow_e_stop_reset) {
+    e_stop_reset_ = std::make_unique<EmptyReader>(participant_, dds_topic(config_.name_space, "e_stop_reset"), [this] {
+      request(e_stop_reset_pending_, &Bridge::handle_e_stop_reset);
+    });
+    spdlog::warn("e_stop_reset is subscribed: anyone on DDS domain {} can release the emergency stop",
+                 config_.domain_id);
+  }
   daemon_.start();
   run_once_a_second_timer();
 }
 
 void Bridge::stop() {
   cmd_vel_.reset();
+  e_stop_trigger_.reset();
+  e_stop_reset_.reset();
   driver_.cancel();
   daemon_.stop();
   once_a_second_timer_.cancel();
@@ -129,6 +143,7 @@ void Bridge::handle_telemetry(const client::Telemetry& record) {
 
 void Bridge::handle_status(const client::Status& status) {
   status_ = status;
+  if (const std::optional<bool> latched = e_stop_publication_.on_status(e_stop_of(status))) publish_e_stop(*latched);
   // A dock that appears, or starts or stops charging, is told at once; the timer repeats it.
   if (const std::optional<bool> charging = dock_charging(); charging != charging_flag_sent_) publish_charging_flag();
 }
@@ -205,6 +220,46 @@ void Bridge::drive_answered(boost::system::error_code ec, const client::Json& re
   }
   service::log_limited(refusal_log_, spdlog::level::warn, "cmd_vel refused: {}", message);
   refusals_.note(Clock::now(), std::move(message));
+}
+
+// --- the emergency stop ---
+
+void Bridge::publish_e_stop(bool latched) {
+  const std_msgs_msg_dds__Bool_ flag{latched};
+  publish(e_stop_, &flag, "e_stop");
+  spdlog::info("e_stop: {}", latched ? "latched" : "not latched");
+}
+
+void Bridge::request(std::atomic<bool>& pending, void (Bridge::*handler)()) {
+  if (pending.exchange(true)) return;
+  boost::asio::post(io_, [this, &pending, handler] {
+    pending = false;
+    (this->*handler)();
+  });
+}
+
+void Bridge::handle_e_stop_trigger() {
+  if (!e_stop_trigger_) return;  // stopped
+  spdlog::warn("e_stop_trigger: latching the emergency stop");
+  daemon_.async_call("estop", client::Json{{"reason", "ros2"}}, [this](boost::system::error_code ec,
+                                                                      const client::Json& result) {
+    if (!ec || ec == boost::asio::error::operation_aborted) return;
+    const std::string why = ec.category() == client::rpc_category() ? result.value("message", ec.message())
+                                                                     : "wheeltecd: " + ec.message();
+    service::log_limited(e_stop_log_, spdlog::level::err, "e_stop_trigger: estop failed: {}", why);
+  });
+}
+
+void Bridge::handle_e_stop_reset() {
+  if (!e_stop_reset_) return;  // stopped
+  spdlog::info("e_stop_reset: releasing the emergency stop");
+  daemon_.async_call("release", nullptr, [this](boost::system::error_code ec, const client::Json& result) {
+    if (!ec || ec == boost::asio::error::operation_aborted) return;
+    const std::string why = ec.category() == client::rpc_category()
+                                ? fmt::format("{} ({})", result.value("message", ec.message()), result.value("code", 0))
+                                : "wheeltecd: " + ec.message();
+    service::log_limited(e_stop_log_, spdlog::level::warn, "e_stop_reset: release refused: {}", why);
+  });
 }
 
 }  // namespace wheeltec::ros2

@@ -7,8 +7,11 @@
 //  - drives go over a daemon connection of their own, so a bridge that dies or stops is a
 //    closed connection, and the daemon stops the robot at once;
 //  - a cmd_vel with a non-finite value is dropped;
-//  - a TwistStamped cmd_vel (cmd_vel_stamped) is its Twist: the same path, the same rules.
+//  - a TwistStamped cmd_vel (cmd_vel_stamped) is its Twist: the same path, the same rules;
+//  - e_stop_trigger latches the daemon's emergency stop; only with allow_e_stop_reset does
+//    e_stop_reset release it (anyone on the domain could publish it).
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -22,6 +25,7 @@
 
 #include "dds_endpoints.hpp"
 #include "diagnostics.hpp"
+#include "e_stop.hpp"
 #include "ros2_config.hpp"
 #include "twist_mailbox.hpp"
 
@@ -44,6 +48,11 @@ class Bridge {
   void handle_status(const client::Status& status);
   void daemon_down(const client::Subscription::Outage& outage);
   void handle_cmd_vel();
+  // Cyclone's thread: one wake-up of the bridge's thread however many messages come meanwhile.
+  void request(std::atomic<bool>& pending, void (Bridge::*handler)());
+  void handle_e_stop_trigger();
+  void handle_e_stop_reset();
+  void publish_e_stop(bool latched);
   void drive_answered(boost::system::error_code ec, const client::Json& result);
   void publish(DdsWriter& writer, const void* sample, const char* topic);
   void publish_diagnostics();
@@ -65,6 +74,13 @@ class Bridge {
   DdsWriter charging_flag_;
   TwistMailbox cmd_vel_mailbox_;
   std::unique_ptr<CmdVelReader> cmd_vel_;
+  DdsWriter e_stop_;
+  EStopPublication e_stop_publication_;
+  std::unique_ptr<EmptyReader> e_stop_trigger_;
+  std::unique_ptr<EmptyReader> e_stop_reset_;
+  std::atomic<bool> e_stop_trigger_pending_{false};
+  std::atomic<bool> e_stop_reset_pending_{false};
+  LogRateLimiter e_stop_log_{kRefusalLogBudget};
   boost::asio::steady_timer once_a_second_timer_;  // diagnostics, robot_charging_flag
   std::optional<client::Status> status_;  // none while the daemon is unreachable
   std::optional<bool> charging_flag_sent_;  // none while no dock is heard

@@ -62,12 +62,13 @@ DdsParticipant::~DdsParticipant() {
 }
 
 DdsWriter::DdsWriter(const DdsParticipant& participant, const std::string& topic, const dds_topic_descriptor_t& type,
-                     int depth) {
+                     int depth, Durability durability) {
   Qos qos = new_qos();
   // A KEEP_LAST writer drops its oldest sample rather than wait; the blocking time only bounds
   // a write while Cyclone's own buffers are full.
   dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, DDS_MSECS(10));
-  dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
+  dds_qset_durability(qos.get(), durability == Durability::transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL
+                                                                            : DDS_DURABILITY_VOLATILE);
   dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, depth);
   set_xcdr1(qos.get());
   writer_ = check(dds_create_writer(participant.handle(), topic_of(participant, topic, type), qos.get(), nullptr),
@@ -120,6 +121,35 @@ void CmdVelReader::on_data_available(dds_entity_t reader, void* self) {
     if (dds_take(reader, samples, &info, 1, 1) <= 0) break;
     if (info.valid_data) cmd_vel_reader.handler_(cmd_vel_reader.twist_of_(samples[0]));
     dds_return_loan(reader, samples, 1);
+  }
+}
+
+EmptyReader::EmptyReader(const DdsParticipant& participant, const std::string& topic, Handler handler)
+    : handler_(std::move(handler)) {
+  Qos qos = new_qos();
+  dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+  dds_qset_durability(qos.get(), DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, 10);
+  set_xcdr1(qos.get());
+  dds_listener_t* listener = dds_create_listener(this);
+  dds_lset_data_available(listener, &EmptyReader::on_data_available);
+  reader_ = dds_create_reader(participant.handle(), topic_of(participant, topic, std_msgs_msg_dds__Empty__desc),
+                              qos.get(), listener);
+  dds_delete_listener(listener);
+  check(reader_, fmt::format("DDS reader of {}", topic));
+}
+
+EmptyReader::~EmptyReader() { dds_delete(reader_); }
+
+void EmptyReader::on_data_available(dds_entity_t reader, void* self) {
+  auto& empty_reader = *static_cast<EmptyReader*>(self);
+  for (;;) {
+    void* samples[1] = {nullptr};
+    dds_sample_info_t info{};
+    if (dds_take(reader, samples, &info, 1, 1) <= 0) break;
+    const bool valid = info.valid_data;
+    dds_return_loan(reader, samples, 1);
+    if (valid) empty_reader.handler_();
   }
 }
 

@@ -38,11 +38,15 @@ class DdsParticipant {
   dds_entity_t participant_ = 0;
 };
 
+enum class Durability { volatile_, transient_local };
+
 // RELIABLE, VOLATILE, KEEP_LAST `depth`, XCDR1: matches every QoS ROS 2 readers use.
+// TRANSIENT_LOCAL (a latched state such as e_stop) keeps the last `depth` samples for
+// readers that join later, and matches VOLATILE readers as well.
 class DdsWriter {
  public:
   DdsWriter(const DdsParticipant& participant, const std::string& topic, const dds_topic_descriptor_t& type,
-            int depth);
+            int depth, Durability durability = Durability::volatile_);
   // False (and the reason in error()) when Cyclone refused the sample.
   bool write(const void* sample);
   std::string error() const { return error_; }
@@ -72,6 +76,25 @@ class CmdVelReader {
   static void on_data_available(dds_entity_t reader, void* self);
   Handler handler_;
   TwistOf twist_of_;
+  dds_entity_t reader_ = 0;
+};
+
+// A topic of std_msgs/msg/Empty, each message a request (e_stop_trigger, e_stop_reset):
+// RELIABLE, VOLATILE, KEEP_LAST 10, so that a single message from a ROS 2 publisher with
+// the default or system-default profile is not lost (a BEST_EFFORT publisher does not
+// match). The handler runs on one of Cyclone's threads, once for each valid sample.
+class EmptyReader {
+ public:
+  using Handler = std::function<void()>;
+  EmptyReader(const DdsParticipant& participant, const std::string& topic, Handler handler);
+  // Returns once no handler runs any more.
+  ~EmptyReader();
+  EmptyReader(const EmptyReader&) = delete;
+  EmptyReader& operator=(const EmptyReader&) = delete;
+
+ private:
+  static void on_data_available(dds_entity_t reader, void* self);
+  Handler handler_;
   dds_entity_t reader_ = 0;
 };
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "e_stop.hpp"
+
 namespace wheeltec::ros2 {
 namespace {
 
@@ -29,6 +31,9 @@ void flatten(const client::Json& value, const std::string& path,
 
 Assessment assess(const client::Status& status) {
   Assessment assessment;
+  if (const EStop e_stop = e_stop_of(status); e_stop.latched) {
+    assessment.add(DiagnosticLevel::error, describe_latched(e_stop));
+  }
   if (status.bus_state == "down" || status.bus_state == "bus-off") {
     assessment.add(DiagnosticLevel::error, "link to the chassis " + status.bus_state);
   } else if (status.bus_state != "up") {

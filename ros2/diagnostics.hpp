@@ -1,8 +1,9 @@
 #pragma once
 
 // What the bridge says on `diagnostics` (spec section 9): one status, "wheeltec: chassis",
-// whose level and message follow from the daemon's status, whether the daemon is reachable,
-// and the daemon's recent refusals of cmd_vel's drives. Pure: time is passed in.
+// whose level and message follow from the daemon's status (ERROR while the emergency stop
+// is latched, with its source and reason: section 12), whether the daemon is reachable, and
+// the daemon's recent refusals of cmd_vel's drives. Pure: time is passed in.
 
 #include <chrono>
 #include <cstdint>

@@ -36,9 +36,12 @@ std::variant<Options, int> parse_command_line(int argc, char** argv) {
   app.add_flag("--no-tf", options.no_tf, "Do not publish tf (when an EKF publishes odom -> base), overrides publish_tf");
   app.add_flag("--cmd-vel-stamped", options.cmd_vel_stamped,
                "cmd_vel is geometry_msgs/msg/TwistStamped instead of Twist, overrides cmd_vel_stamped");
+  app.add_flag("--allow-e-stop-reset", options.allow_e_stop_reset,
+               "Subscribe e_stop_reset, which releases the emergency stop, overrides allow_e_stop_reset");
   app.footer(
-      "Topics, relative to --namespace: cmd_vel in; odom, imu, tf, PowerVoltage, battery_state, diagnostics and,\n"
-      "while a dock is heard, robot_charging_flag out (man wheeltec-ros2).\n"
+      "Topics, relative to --namespace: cmd_vel and e_stop_trigger (and with --allow-e-stop-reset, e_stop_reset) in;\n"
+      "odom, imu, tf, PowerVoltage, battery_state, e_stop, diagnostics and, while a dock is heard,\n"
+      "robot_charging_flag out (man wheeltec-ros2).\n"
       "nav2 on Jazzy publishes Twist (enable_stamped_cmd_vel: false, its default): no flag needed.\n"
       "nav2 on Kilted publishes TwistStamped (enable_stamped_cmd_vel: true, its default): --cmd-vel-stamped.");
   return command_line::parse_bridge_command_line(app, options, argc, argv);
@@ -58,6 +61,7 @@ Ros2Config load_config(const Options& options) {
     if (options.name_space) config.name_space = normalize_namespace(*options.name_space, "--namespace");
     if (options.no_tf) config.publish_tf = false;
     if (options.cmd_vel_stamped) config.cmd_vel_stamped = true;
+    if (options.allow_e_stop_reset) config.allow_e_stop_reset = true;
   });
 }
 

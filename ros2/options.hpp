@@ -19,6 +19,7 @@ struct Options : command_line::BridgeFlags {
   std::optional<std::string> name_space;
   bool no_tf = false;
   bool cmd_vel_stamped = false;
+  bool allow_e_stop_reset = false;
 };
 
 // On --help or --version the result is exit code 0; on bad usage a one-line error goes to

@@ -122,6 +122,7 @@ void apply_ros2_config(const json& document, Ros2Config& config) {
                  }},
                 boolean("publish_tf", config.publish_tf),
                 boolean("cmd_vel_stamped", config.cmd_vel_stamped),
+                boolean("allow_e_stop_reset", config.allow_e_stop_reset),
                 object("frames", {text("odom", config.frames.odom), text("base", config.frames.base),
                                   text("imu", config.frames.imu)}),
                 object("covariance", {diagonal("pose", covariance.pose), diagonal("twist", covariance.twist),

@@ -46,6 +46,9 @@ struct Ros2Config {
   std::string name_space;  // "" or "/robot1"-like; stored without leading or trailing '/'
   bool publish_tf = true;
   bool cmd_vel_stamped = false;  // cmd_vel is geometry_msgs/msg/TwistStamped rather than Twist
+  // Whether e_stop_reset is subscribed: anyone on the DDS domain could then release the
+  // emergency stop, so it is off unless the owner asks for it.
+  bool allow_e_stop_reset = false;
   Frames frames;
   Covariance covariance;
   BatteryConfig battery;

@@ -10,6 +10,8 @@
 #      each bridge adds over the daemon's socket;
 #   1c. broker loss -> zero frame: the broker SIGKILLed while a bridge drives, to the first
 #      0x121 frame with zero velocity, for each bridge, several rounds;
+#   1d. the fleet's emergency stop: one empty message on wheeltec/all/cmd/estop while r1 drives,
+#      to its first zero frame (then `release` on the daemon's socket), as many rounds;
 #   2. 0x103 frame on the bus (kernel timestamp) -> the record at an MQTT subscriber,
 #      p50/p99, next to a direct subscriber of the daemon;
 #   3. the bridge's CPU per record (utime+stime over the run / records published), and its
@@ -18,7 +20,7 @@
 #      one subscriber of wheeltec/+/telemetry, records lost, the bridges' telemetry_dropped.
 # With --serial it runs natively instead (no vcan, no User-Mode Linux): one robot, whose chassis
 # is a pseudo-terminal that the benchmark itself plays (records at 20 Hz, command frames timed
-# when read), and only 1, 1b and 1c; 2-4 need the bus and are skipped. About 2 minutes, 20 s
+# when read), and only 1, 1b, 1c and 1d; 2-4 need the bus and are skipped. About 2 minutes, 20 s
 # with --quick.
 # Writes $BENCH_OUT (default: $BUILD_DIR/bench-results) /mqtt.json and mqtt-table.md.
 # Takes about 3 minutes; --quick (short runs, 1 and 2 robots, to check that it works) well

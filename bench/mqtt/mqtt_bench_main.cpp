@@ -1,5 +1,6 @@
 // wheeltec-bench-mqtt (scripts/bench-mqtt.sh): wheeltec-mqtt with a real mosquitto: 1. drives and broker
-// loss beside the paho-mqtt bridge; 2. telemetry latency; 3. CPU and system calls per record; 4. N robots.
+// loss beside the paho-mqtt bridge, and the fleet's all/cmd/estop; 2. telemetry latency; 3. CPU and system
+// calls per record; 4. N robots.
 // On vcan through scripts/vcan-run; --serial: one robot on a pty the benchmark plays, natively: 1 only.
 #include <algorithm>
 #include <iostream>
@@ -264,6 +265,46 @@ json measure_broker_loss(Broker& broker, const CommandFrames& frames, const std:
   return out;
 }
 
+// The fleet's emergency stop (spec section 12): while r1 drives through its bridge, one empty message
+// on PREFIX/all/cmd/estop, to the first zero frame; then `release` on the daemon's socket. `rounds` times.
+json measure_fleet_estop(Broker& broker, const CommandFrames& frames, const std::string& drive_topic,
+                         const fs::path& daemon_socket, int rounds) {
+  std::vector<double> ms;
+  int missed = 0, never_driving = 0, mm = 90;
+  std::vector<std::string> errors;
+  MqttPublisher publisher("127.0.0.1", broker.port(), "wheeltec-bench-estop");
+  for (int round = 0; round < rounds; ++round) {
+    bool driving = false;
+    for (int attempt = 0; attempt < 50 && !driving; ++attempt) {
+      mm = 90 + (mm - 89) % 40;  // 90..129 mm/s, never the previous one
+      frames.drain();
+      publisher.publish(drive_topic, fmt::format(R"({{"vx":{:.3f},"operator":"bench-estop"}})", mm / 1000.0));
+      driving = frames.first_with(mm, 200).has_value();
+      publisher.service();
+    }
+    if (!driving) {
+      ++never_driving;
+      continue;
+    }
+    frames.drain();
+    const std::int64_t sent = publisher.publish(topic("all", "cmd/estop"), "");
+    const auto zero = frames.first_with(0, 2000);
+    if (zero) ms.push_back(static_cast<double>(*zero - sent) / 1e6);
+    else ++missed;
+    publisher.service();
+    try {
+      api_call(daemon_socket, "release");
+    } catch (const std::exception& error) {
+      if (errors.size() < 3) errors.push_back(std::string("release: ") + error.what());
+    }
+  }
+  std::vector<double> us;
+  for (const double value : ms) us.push_back(value * 1e3);
+  json out = summarize(us).to_json();
+  out.update({{"missed", missed}, {"never_driving", never_driving}, {"rounds_ms", ms}, {"errors", errors}});
+  return out;
+}
+
 // ---- the fleet ----
 struct Fleet {
   std::unique_ptr<Broker> broker;
@@ -467,6 +508,12 @@ int measure(const Settings& settings, const fs::path& work) {
     if (out["broker_loss"][key]["rounds_ms"].empty()) errors.push_back(std::string("broker loss: no zero frame timed for ") + name);
   }
   for (auto& name : r1.ended()) errors.push_back("after the broker kills: " + name + " ended");
+  // The publisher reconnects to the restarted broker; the bridges have, since they drove in the last round.
+  std::cerr << "wheeltec-bench-mqtt: the fleet's estop, " << settings.loss_rounds << " rounds\n";
+  out["fleet_estop"] = measure_fleet_estop(*fleet.broker, command_frames(), topic(r1.name, "cmd/drive"), r1.socket,
+                                           settings.loss_rounds);
+  if (out["fleet_estop"]["rounds_ms"].empty()) errors.push_back("the fleet's estop: no zero frame timed");
+  for (const auto& error : out["fleet_estop"]["errors"]) errors.push_back("the fleet's estop: " + error.get<std::string>());
   if (records && records->failure()) errors.push_back("the chassis' records stopped: " + *records->failure());
   // The subscriber reconnects by itself (libmosquitto's loop thread, 1 s) before the scaling steps.
   for (int i = 0; i < 100 && !subscriber.connected(); ++i) inbox.wait(100);
@@ -520,7 +567,10 @@ int measure(const Settings& settings, const fs::path& work) {
                        rounds, series["missed"].get<int>());
   };
   std::cout << "| broker SIGKILLed while driving -> first zero " << frame << ", ms: p50 / max (each round) | "
-            << loss_cell(out["broker_loss"]["wheeltec_mqtt"]) << " | " << loss_cell(out["broker_loss"]["paho_bridge"]) << " |\n\n";
+            << loss_cell(out["broker_loss"]["wheeltec_mqtt"]) << " | " << loss_cell(out["broker_loss"]["paho_bridge"]) << " |\n";
+  std::cout << "| " << kPrefix << "/all/cmd/estop published while driving -> first zero " << frame
+            << " (then release on the socket), ms: p50 / max (each round) | " << loss_cell(out["fleet_estop"])
+            << " | (no estop) |\n\n";
   if (settings.serial) {
     std::cout << "A pty has no receive timestamp: each command frame is timed when the benchmark read it from the master "
                  "(its own wakeup included), where on CAN the kernel stamps it.\n\n"

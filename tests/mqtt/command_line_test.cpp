@@ -57,6 +57,17 @@ TEST(MqttCommandLine, WildcardsAndEmptyLevelsAreRefused) {
   }
 }
 
+TEST(MqttCommandLine, TheRobotNameAllIsRefused) {
+  TestDirectory directory;
+  for (const BridgeRun& run : {run_bridge(directory, {"--robot", "all"}),
+                               run_bridge(directory, {"--config", write_config(directory, R"({"robot": "all"})")})}) {
+    EXPECT_EQ(run.code, 2) << run.err;
+    EXPECT_NE(run.err.find("robot"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("all/cmd/estop"), std::string::npos) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  }
+}
+
 TEST(MqttCommandLine, BadUsageIsExit2) {
   TestDirectory directory;
   EXPECT_EQ(run_bridge(directory, {"--bogus"}).code, 2);

@@ -98,6 +98,42 @@ TEST(MqttCommand, StopIsNeverRefused) {
   EXPECT_EQ(accepted(Command::stop, R"({"id":"s1","operator":"bob"})").id, "s1");
 }
 
+TEST(MqttCommand, EstopTakesAReasonOrNothing) {
+  EXPECT_EQ(accepted(Command::estop, R"({"reason":"person on the track"})").params,
+            (Json{{"reason", "person on the track"}}));
+  EXPECT_TRUE(accepted(Command::estop, "").params.is_null());
+  EXPECT_TRUE(accepted(Command::estop, "{}").params.is_null());
+  const auto request = accepted(Command::estop, R"({"reason":"","id":"e1","operator":"carol"})");
+  EXPECT_EQ(request.params, (Json{{"reason", ""}}));
+  EXPECT_EQ(request.id, "e1");
+  EXPECT_EQ(request.operator_name, "carol");
+}
+
+TEST(MqttCommand, EstopIsNeverRefusedAndKeepsWhatItCanOfTheReason) {
+  for (const std::string& payload :
+       std::vector<std::string>{"garbage", "[1]", R"({"reason":7})", R"({"reason":null,"vx":1})", R"({"id":[]})",
+                                std::string(kMaxCommandBytes + 1, '{'), std::string(5000, '[')}) {
+    const auto request = accepted(Command::estop, payload);
+    EXPECT_EQ(request.command, Command::estop);
+    EXPECT_TRUE(request.params.is_null()) << payload.substr(0, 40);
+  }
+  // Longer than the daemon takes: cut at a character, never refused.
+  const auto long_reason = accepted(Command::estop, R"({"reason":")" + std::string(300, 'x') + "\"}");
+  EXPECT_EQ(long_reason.params["reason"], std::string(kMaxEstopReasonBytes, 'x'));
+  std::string umlauts = "x";
+  for (int i = 0; i < 150; ++i) umlauts += "\u00f6";  // two bytes each: byte 200 is the second of one
+  const auto cut = accepted(Command::estop, R"({"reason":")" + umlauts + "\"}").params["reason"].get<std::string>();
+  EXPECT_EQ(cut, umlauts.substr(0, kMaxEstopReasonBytes - 1));
+  EXPECT_EQ(accepted(Command::estop, R"({"reason":"a","reason":"b"})").params["reason"], "b");
+}
+
+TEST(MqttCommand, ReleaseTakesNoParams) {
+  EXPECT_TRUE(accepted(Command::release, "").params.is_null());
+  EXPECT_EQ(accepted(Command::release, R"({"id":"r1"})").id, "r1");
+  EXPECT_EQ(refused(Command::release, R"({"reason":"x"})").message, "unknown param \"reason\"");
+  EXPECT_EQ(refused(Command::release, "garbage").code, kParseError);
+}
+
 TEST(MqttCommand, RepliesAreJsonRpcResponsesNamingTheCommand) {
   EXPECT_EQ(result_reply(Command::drive, 5, Json{{"vx", 0.1}}).dump(),
             R"({"jsonrpc":"2.0","id":5,"command":"drive","result":{"vx":0.1}})");

@@ -4,6 +4,7 @@
 // The tests share the fleet and run in order; each leaves it running as it found it.
 
 #include <csignal>
+#include <functional>
 #include <fstream>
 #include <thread>
 
@@ -295,6 +296,153 @@ TEST_F(MqttFleet, KillNineOfABridgePublishesItsLastWill) {
   wait_online(*r2_);
   EXPECT_TRUE(bus1.collect(is_moving_frame, 1500ms).empty()) << "a retained drive moved the robot";
   fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/drive", "", {"-r"});  // clears it
+}
+
+// Protocol 5 (spec section 12): the emergency stop through the bridges. The same fleet, in
+// a suite of its own (ctest mqtt.Safety, label safety); each test releases what it latched.
+class MqttSafety : public MqttFleet {
+ protected:
+  // The robot's retained status, as a late subscriber gets it, once `ready(status)` holds.
+  static Json status_when(fleet::Robot& robot, const std::function<bool(const Json&)>& ready) {
+    fleet::Subscription status(*broker_, directory_->path(), {robot.topic("status")});
+    const auto deadline = std::chrono::steady_clock::now() + 3s;
+    for (;;) {
+      const auto seen = status.messages();
+      if (!seen.empty()) {
+        const Json last = Json::parse(seen.back().payload);
+        if (ready(last) || std::chrono::steady_clock::now() > deadline) return last;
+      }
+      if (std::chrono::steady_clock::now() > deadline) return Json();
+      std::this_thread::sleep_for(50ms);
+    }
+  }
+  static bool latched(const Json& status) { return status.contains("safety") && status["safety"]["latched"] == true; }
+  static bool not_latched(const Json& status) {
+    return status.contains("safety") && status["safety"]["latched"] == false;
+  }
+
+  // The reply with this id on the robot's cmd/result.
+  static std::optional<Json> reply_with_id(const fleet::Subscription& results, const std::string& id) {
+    for (const auto& message : results.wait_for(1000, "", 3s)) {
+      const Json answer = Json::parse(message.payload, nullptr, false);
+      if (answer.is_object() && answer.value("id", Json()) == id) return answer;
+    }
+    return std::nullopt;
+  }
+
+  static void release(fleet::Robot& robot) {
+    fleet::Subscription results(*broker_, directory_->path(), {robot.topic("cmd/result")});
+    fleet::publish(*broker_, directory_->path(), robot.topic("cmd/release"), R"({"id":"rel"})");
+    const auto answer = reply_with_id(results, "rel");
+    ASSERT_TRUE(answer) << "no reply to release";
+    EXPECT_EQ((*answer)["result"], Json::object()) << answer->dump();
+    EXPECT_TRUE(not_latched(status_when(robot, not_latched))) << robot.name() << " still latched";
+  }
+};
+
+static bool is_zero(const wheeltec::CanFrame& frame) { return integration::is_zero_control_frame(frame); }
+
+TEST_F(MqttSafety, CmdEstopLatchesTheRobotUntilCmdRelease) {
+  CanBus bus0("vcan0");
+  fleet::Subscription results(*broker_, dir(), {"wheeltec/r1/cmd/result"});
+  auto driver = fleet::keep_publishing(*broker_, dir(), "wheeltec/r1/cmd/drive",
+                                       R"({"vx":0.25,"operator":"dave","id":"d"})", 100ms, 10s);
+  ASSERT_TRUE(bus0.wait_for(is_moving_frame, 6s)) << "the robot does not drive";
+  bus0.discard_pending();
+  fleet::publish(*broker_, dir(), "wheeltec/r1/cmd/estop", R"({"reason":"person on the track","id":"e1"})");
+  ASSERT_TRUE(bus0.wait_for(is_zero, 1s)) << "no zero frame after cmd/estop";
+  EXPECT_TRUE(bus0.collect(is_moving_frame, 700ms).empty()) << "the operator's drives moved a latched robot";
+
+  const auto answer = reply_with_id(results, "e1");
+  ASSERT_TRUE(answer) << "no reply to estop";
+  EXPECT_EQ((*answer)["command"], "estop");
+  EXPECT_EQ((*answer)["result"], Json::object()) << answer->dump();
+  // The operator's drives since are answered with the daemon's refusal, the safety object with it.
+  std::optional<Json> refusal;
+  for (const auto& message : results.wait_for(1000, "", 2s)) {
+    const Json answer = Json::parse(message.payload, nullptr, false);
+    if (answer.is_object() && answer.value("id", Json()) == "d" && answer.contains("error")) refusal = answer;
+  }
+  ASSERT_TRUE(refusal) << "no drive refused while latched";
+  EXPECT_EQ(refusal->value("/error/code"_json_pointer, 0), -32007) << refusal->dump();
+  EXPECT_EQ(refusal->value("/error/data/latched"_json_pointer, false), true) << refusal->dump();
+  driver->kill();
+
+  // The retained status carries the daemon's safety object.
+  const Json status = status_when(*r1_, latched);
+  ASSERT_TRUE(latched(status)) << status.dump();
+  EXPECT_EQ(status["safety"]["source"], "client");
+  EXPECT_EQ(status["safety"]["reason"], "person on the track");
+  EXPECT_TRUE(status["safety"]["since"].is_number());
+  EXPECT_TRUE(not_latched(status_when(*r2_, not_latched))) << "r1's estop latched r2";
+
+  release(*r1_);
+  fleet::publish(*broker_, dir(), "wheeltec/r1/cmd/drive", R"({"vx":0.1})");
+  EXPECT_TRUE(bus0.wait_for(is_moving_frame, 2s)) << "no drive after the release";
+  std::this_thread::sleep_for(600ms);  // the deadman, before the next test
+}
+
+TEST_F(MqttSafety, OneMessageOnAllCmdEstopStopsTheWholeFleet) {
+  CanBus bus0("vcan0");
+  CanBus bus1("vcan1");
+  fleet::Subscription results(*broker_, dir(), {"wheeltec/r1/cmd/result", "wheeltec/r2/cmd/result"});
+  auto d1 = fleet::keep_publishing(*broker_, dir(), "wheeltec/r1/cmd/drive", R"({"vx":0.2})", 100ms, 10s);
+  auto d2 = fleet::keep_publishing(*broker_, dir(), "wheeltec/r2/cmd/drive", R"({"vx":0.2})", 100ms, 10s);
+  ASSERT_TRUE(bus0.wait_for(is_moving_frame, 6s)) << "r1 does not drive";
+  ASSERT_TRUE(bus1.wait_for(is_moving_frame, 6s)) << "r2 does not drive";
+  bus0.discard_pending();
+  bus1.discard_pending();
+  fleet::publish(*broker_, dir(), "wheeltec/all/cmd/estop", "");  // empty: no reason
+  // Within mosquitto_pub's start (the latency itself is bench-mqtt's).
+  ASSERT_TRUE(bus0.wait_for(is_zero, 2s)) << "r1 not stopped";
+  ASSERT_TRUE(bus1.wait_for(is_zero, 1s)) << "r2 not stopped";
+  EXPECT_TRUE(bus0.collect(is_moving_frame, 700ms).empty());
+  EXPECT_TRUE(bus1.take_pending(is_moving_frame).empty());
+  d1->kill();
+  d2->kill();
+
+  // Each robot answers on its own result topic.
+  const auto replies = results.wait_for(1000, "", 2s);
+  for (const char* robot : {"r1", "r2"}) {
+    bool answered = false;
+    for (const auto& message : replies) {
+      const Json answer = Json::parse(message.payload);
+      if (message.topic == std::string("wheeltec/") + robot + "/cmd/result" && answer["command"] == "estop") {
+        answered = true;
+        EXPECT_EQ(answer["result"], Json::object()) << answer.dump();
+      }
+    }
+    EXPECT_TRUE(answered) << robot << " did not answer the fleet's estop";
+  }
+  for (fleet::Robot* robot : {r1_, r2_}) {
+    const Json status = status_when(*robot, latched);
+    ASSERT_TRUE(latched(status)) << robot->name() << " " << status.dump();
+    EXPECT_EQ(status["safety"]["reason"], "");
+  }
+  // No fleet-wide release: each robot is released on its own.
+  fleet::publish(*broker_, dir(), "wheeltec/all/cmd/release", "");
+  std::this_thread::sleep_for(300ms);
+  EXPECT_TRUE(latched(status_when(*r2_, latched)));
+  release(*r1_);
+  release(*r2_);
+}
+
+// A release left retained does not release a robot when its bridge subscribes again (MQTT 5
+// subscriptions get no retained messages; a 3.1.1 bridge refuses them). The latch is the
+// daemon's own and outlives the bridge.
+TEST_F(MqttSafety, AReleaseLeftRetainedReleasesNothing) {
+  r2_->gateway().connect().call("estop", {{"reason", "before the bridge came back"}});
+  ASSERT_TRUE(latched(status_when(*r2_, latched)));
+  EXPECT_TRUE(r2_->bridge().terminate().exited_with(0));
+  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/release", R"({"id":"r9"})", {"-r"});
+  r2_->start_bridge();
+  wait_online(*r2_);
+  std::this_thread::sleep_for(1s);
+  const Json status = status_when(*r2_, latched);
+  EXPECT_TRUE(latched(status)) << "a retained release was executed: " << status.dump();
+  EXPECT_EQ(status["safety"]["reason"], "before the bridge came back");
+  fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/release", "", {"-r"});  // clears it (and is a release)
+  EXPECT_TRUE(not_latched(status_when(*r2_, not_latched)));
 }
 
 }  // namespace

@@ -14,13 +14,16 @@ TEST(MqttTopics, AreUnderPrefixAndRobot) {
   EXPECT_EQ(topics.result(), "wheeltec/r1/cmd/result");
   EXPECT_EQ(topics.command_topics(),
             (std::vector<std::string>{"wheeltec/r1/cmd/drive", "wheeltec/r1/cmd/stop", "wheeltec/r1/cmd/enable",
-                                      "wheeltec/r1/cmd/disable", "wheeltec/r1/cmd/reset_odometry"}));
+                                      "wheeltec/r1/cmd/disable", "wheeltec/r1/cmd/reset_odometry",
+                                      "wheeltec/r1/cmd/estop", "wheeltec/r1/cmd/release", "wheeltec/all/cmd/estop"}));
+  EXPECT_EQ(topics.fleet_estop(), "wheeltec/all/cmd/estop");
   EXPECT_EQ(topics.command(Command::reset_odometry), "wheeltec/r1/cmd/reset_odometry");
 }
 
 TEST(MqttTopics, MultiLevelPrefix) {
   const Topics topics("site/hall-2", "r1");
   EXPECT_EQ(topics.telemetry(), "site/hall-2/r1/telemetry");
+  EXPECT_EQ(topics.fleet_estop(), "site/hall-2/all/cmd/estop");
   EXPECT_EQ(prefix_problem("site/hall-2"), std::nullopt);
 }
 
@@ -31,6 +34,12 @@ TEST(MqttTopics, CommandOfTopic) {
   EXPECT_EQ(topics.command_of("wheeltec/r1/cmd/enable"), Command::enable);
   EXPECT_EQ(topics.command_of("wheeltec/r1/cmd/disable"), Command::disable);
   EXPECT_EQ(topics.command_of("wheeltec/r1/cmd/reset_odometry"), Command::reset_odometry);
+  EXPECT_EQ(topics.command_of("wheeltec/r1/cmd/estop"), Command::estop);
+  EXPECT_EQ(topics.command_of("wheeltec/r1/cmd/release"), Command::release);
+  EXPECT_EQ(topics.command_of("wheeltec/all/cmd/estop"), Command::estop);  // the fleet's
+  EXPECT_EQ(topics.command_of("wheeltec/all/cmd/release"), std::nullopt);  // one by one only
+  EXPECT_EQ(topics.command_of("wheeltec/all/cmd/drive"), std::nullopt);
+  EXPECT_EQ(topics.command_of("other/all/cmd/estop"), std::nullopt);
   EXPECT_EQ(topics.command_of("wheeltec/r1/cmd/result"), std::nullopt);
   EXPECT_EQ(topics.command_of("wheeltec/r1/cmd/drive/x"), std::nullopt);
   EXPECT_EQ(topics.command_of("wheeltec/r2/cmd/drive"), std::nullopt);
@@ -64,6 +73,9 @@ TEST(MqttTopics, ProblemsSayWhat) {
   EXPECT_EQ(*prefix_problem("a/+"), "holds the MQTT wildcard '+'");
   EXPECT_EQ(*prefix_problem("a//b"), "has an empty topic level");
   EXPECT_EQ(*robot_name_problem("a/b"), "holds '/' (a robot name is one topic level)");
+  EXPECT_EQ(*robot_name_problem("all"), "\"all\" is reserved: PREFIX/all/cmd/estop is the whole fleet's emergency stop");
+  EXPECT_EQ(robot_name_problem("All"), std::nullopt);  // topics are case-sensitive
+  EXPECT_EQ(robot_name_problem("all2"), std::nullopt);
 }
 
 }  // namespace

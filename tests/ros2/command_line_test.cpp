@@ -39,7 +39,7 @@ TEST(Ros2CommandLine, HelpNamesEveryFlagAndVersionNamesTheProgram) {
   EXPECT_TRUE(help.status.exited_with(0)) << help.describe();
   for (const char* flag :
        {"--config", "--socket", "--domain-id", "--localhost-only", "--namespace", "--no-tf", "--cmd-vel-stamped",
-        "--log-level"}) {
+        "--allow-e-stop-reset", "--log-level"}) {
     EXPECT_NE(help.out.find(flag), std::string::npos) << flag << " missing in\n" << help.out;
   }
   // Which nav2 needs --cmd-vel-stamped.
@@ -93,6 +93,8 @@ TEST(Ros2CommandLine, ABadBatteryConfigIsNamed) {
   expect_usage_error(directory, {"--config", path.string()}, "battery.empty_v");
   std::ofstream(path) << R"({"cmd_vel_stamped": 1})" << "\n";
   expect_usage_error(directory, {"--config", path.string()}, "cmd_vel_stamped");
+  std::ofstream(path) << R"({"allow_e_stop_reset": "yes"})" << "\n";
+  expect_usage_error(directory, {"--config", path.string()}, "allow_e_stop_reset");
 }
 
 TEST(Ros2CommandLine, AMissingConfigFileIsNamed) {

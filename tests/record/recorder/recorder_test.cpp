@@ -284,6 +284,40 @@ TEST_F(Recorder, RetentionDeletesTheOldestFilesFirst) {
   EXPECT_TRUE(fs::exists(records_ / "notes.txt"));
 }
 
+// Issue 41 item 5: with --max-bytes below one incident's size, every incident was deleted
+// as soon as it was written. The newest is kept (and logged as over the limit); the next
+// incident replaces it.
+TEST_F(Recorder, ALimitBelowOneFileKeepsTheNewestIncident) {
+  SerialDaemon& daemon = start_daemon_ready();
+  ChildProcess& recorder = start_recording(daemon, {"--before", "2", "--after", "0.5", "--max-bytes", "15000"}, 3s);
+  daemon.connect().call("mark", {{"text", "the first"}});
+  const auto first = wait_for_files(".mcap", 1, 5s);
+  ASSERT_EQ(first.size(), 1u) << recorder.output_report();
+  std::this_thread::sleep_for(1s);  // retention has run since the file was committed
+  ASSERT_EQ(names_ending(".mcap"), first) << recorder.output_report();
+  EXPECT_GT(fs::file_size(records_ / first[0]), 15'000u);
+  EXPECT_GE(on(read_back(first[0]), kTelemetry).size(), 40u);
+  EXPECT_NE(recorder.standard_error().find(first[0] + " ("), std::string::npos) << recorder.output_report();
+  EXPECT_NE(recorder.standard_error().find("never deleted"), std::string::npos) << recorder.output_report();
+
+  std::this_thread::sleep_for(1s);  // the next file's name is of another second
+  daemon.connect().call("mark", {{"text", "the second"}});
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  // The second is renamed into place a moment before the first is deleted.
+  const auto replaced = [&] {
+    const auto now = names_ending(".mcap");
+    return now.size() == 1 && now != first;
+  };
+  while (!replaced() && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(50ms);
+  }
+  const auto second = names_ending(".mcap");
+  ASSERT_EQ(second.size(), 1u) << recorder.output_report();
+  EXPECT_NE(second[0], first[0]);
+  EXPECT_TRUE(names_ending(".part").empty());
+  EXPECT_GE(on(read_back(second[0]), kTelemetry).size(), 40u);
+}
+
 // The daemon's own triggers, each from what sets it off on a robot.
 TEST_F(Recorder, TheDeadmanMakesAFile) {
   SerialDaemon& daemon = start_daemon_ready();
@@ -368,6 +402,40 @@ TEST_F(Recorder, AFileFromTheEmulatorHoldsEveryRecordOfItsWindow) {
   int drives = 0;
   for (const auto* event : on(file, kEvents)) drives += Json::parse(event->payload)["event"] == "drive";
   EXPECT_EQ(drives, 10);
+}
+
+// Protocol 5 (spec section 12): every `estop` event is a trigger, on by default. A suite of
+// its own, so that ctest -L safety runs it.
+class RecorderSafety : public Recorder {};
+
+TEST_F(RecorderSafety, AnEmergencyStopMakesAnEstopFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "1"}, 2s);
+  auto operator_client = daemon.connect();
+  operator_client.call("estop", {{"reason", "operator pressed E-STOP"}});
+  expect_one_file_for("estop", 5s);
+  const auto file = read_back(names_ending(".mcap").at(0));
+  bool seen = false;
+  for (const auto* message : on(file, kEvents)) {
+    const Json event = Json::parse(message->payload);
+    if (event["event"] != "estop") continue;
+    seen = true;
+    EXPECT_EQ(event["source"], "client");
+    EXPECT_EQ(event["reason"], "operator pressed E-STOP");
+  }
+  EXPECT_TRUE(seen);
+  operator_client.call("release");
+}
+
+TEST_F(RecorderSafety, NoTriggerEstopMakesNoFile) {
+  SerialDaemon& daemon = start_daemon_ready();
+  start_recording(daemon, {"--before", "2", "--after", "0.5", "--no-trigger", "estop"}, 1s);
+  auto operator_client = daemon.connect();
+  operator_client.call("estop", {{"reason", "not recorded"}});
+  std::this_thread::sleep_for(2s);
+  EXPECT_TRUE(names_ending(".mcap").empty()) << recorder_->output_report();
+  EXPECT_TRUE(names_ending(".part").empty());
+  operator_client.call("release");
 }
 
 TEST_F(Recorder, ADirItCannotWriteIsExit2NamingIt) {

@@ -192,6 +192,31 @@ TEST(BlackBox, ASecondTriggerInsideTheWindowExtendsTheSameFile) {
             triggers_json({{Trigger::mark, first}, {Trigger::deadman, second}}));
 }
 
+TEST(BlackBox, AnEmergencyStopWritesAnEstopFile) {
+  Rig rig(settings(3s, 1s));
+  auto& [store, box, feed] = rig;
+  feed.ready_for(4s);
+  Json estop = event_at(feed.now(), "estop");
+  estop["source"] = "client";
+  estop["reason"] = "operator pressed E-STOP";
+  const RealtimeNanos latched = feed.now();
+  box.on_event(estop, latched);
+  feed.run_for(500ms);
+  Json release = event_at(feed.now(), "release");  // no trigger, but recorded in the same file
+  box.on_event(release, feed.now());
+  feed.run_for(2s);
+
+  const std::string name = file_name(latched, Trigger::estop);
+  ASSERT_EQ(store.whole_names(), std::vector<std::string>{name});
+  EXPECT_TRUE(name.ends_with("-estop.mcap")) << name;
+  const auto file = mcap_test::check_mcap(store.files.at(name));
+  const auto events = on_channel(file, Channel::events);
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(Json::parse(events[0].payload), estop);
+  EXPECT_EQ(Json::parse(events[1].payload)["event"], "release");
+  EXPECT_EQ(file.metadata.at(0).second.at("triggers"), triggers_json({{Trigger::estop, latched}}));
+}
+
 TEST(BlackBox, ATriggerAfterTheWindowStartsASecondFile) {
   Rig rig(settings(2s, 1s));
   auto& [store, box, feed] = rig;
@@ -280,6 +305,30 @@ TEST(BlackBox, RetentionDeletesTheOldestFilesAndKeepsTheNewOne) {
   EXPECT_FALSE(store.files.contains("20251127T000000Z-mark.mcap"));
   EXPECT_TRUE(store.files.contains("20251128T000000Z-mark.mcap"));
   EXPECT_TRUE(store.files.contains("notes.txt"));
+}
+
+// Issue 41 item 5: with a limit below one incident's size, each incident was deleted as
+// soon as it was written. Now the newest is kept, and the one before it goes.
+TEST(BlackBox, ALimitBelowOneFileKeepsTheNewestIncident) {
+  BlackBoxSettings tiny = settings(2s, 1s);
+  tiny.max_bytes = 1'000;
+  Rig rig(tiny);
+  auto& [store, box, feed] = rig;
+  feed.run_for(3s);
+  const RealtimeNanos first = feed.event("mark");
+  feed.run_for(2s);
+  const std::string first_name = file_name(first, Trigger::mark);
+  ASSERT_EQ(store.whole_names(), std::vector<std::string>{first_name});
+  EXPECT_GT(store.files.at(first_name).size(), tiny.max_bytes);
+  mcap_test::check_mcap(store.files.at(first_name));
+
+  feed.run_for(2s);
+  const RealtimeNanos second = feed.event("mark");
+  feed.run_for(500ms);  // while the second is written, the first is still the newest finished one
+  EXPECT_EQ(store.whole_names(), std::vector<std::string>{first_name});
+  feed.run_for(1500ms);
+  EXPECT_EQ(store.whole_names(), std::vector<std::string>{file_name(second, Trigger::mark)});
+  EXPECT_EQ(box.files_written(), 2u);
 }
 
 TEST(BlackBox, AFileThatCannotBeWrittenIsDroppedAndTheNextOneIsWhole) {

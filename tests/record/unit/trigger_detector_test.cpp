@@ -158,7 +158,14 @@ TEST_F(RecordTriggerDetector, EventsFireAtTheirOwnTime) {
   EXPECT_EQ(mark, (FiredTrigger{Trigger::mark, t0 + seconds(2)}));
   const auto refused = detector.on_event(Json::parse(R"({"event":"refused","client":5})"), t0 + seconds(3));
   EXPECT_EQ(refused, (FiredTrigger{Trigger::refused, t0 + seconds(3)}));  // no time: when received
-  for (const char* kind : {"connected", "disconnected", "drive", "stop", "enable", "disable", "reload"}) {
+  // Protocol 5: a client's emergency stop and a hazard's (client null) alike; a release is none.
+  const auto estop = detector.on_event(Json::parse(R"({"time":1795552463.5,"event":"estop","client":3,
+                                                       "source":"client","reason":"operator pressed E-STOP"})"), t0);
+  EXPECT_EQ(estop, (FiredTrigger{Trigger::estop, t0 + std::chrono::milliseconds(3500)}));
+  const auto hazard = detector.on_event(Json::parse(R"({"time":1795552464,"event":"estop","client":null,
+                                                        "source":"tilt","reason":"roll 88 deg for 0.3 s"})"), t0);
+  EXPECT_EQ(hazard, (FiredTrigger{Trigger::estop, t0 + seconds(4)}));
+  for (const char* kind : {"connected", "disconnected", "drive", "stop", "enable", "disable", "reload", "release"}) {
     Json event = {{"time", 1795552462.0}, {"event", kind}, {"client", nullptr}};
     EXPECT_EQ(detector.on_event(event, t0), std::nullopt) << kind;
   }

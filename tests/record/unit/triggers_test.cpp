@@ -19,7 +19,8 @@ std::string refusal_of(const std::vector<std::string>& enable, const std::vector
 
 TEST(RecordTriggers, NamesAreTheSpecsAndReadBack) {
   const std::vector<std::string_view> expected{"deadman",     "halted",           "reboot",  "link-down",   "offline",
-                                               "battery-low", "commands-ignored", "refused", "daemon-lost", "mark"};
+                                               "battery-low", "commands-ignored", "refused", "daemon-lost", "mark",
+                                               "estop"};
   ASSERT_EQ(kTriggers.size(), expected.size());
   for (std::size_t i = 0; i < kTriggers.size(); ++i) {
     EXPECT_EQ(trigger_name(kTriggers[i]), expected[i]);
@@ -35,7 +36,8 @@ TEST(RecordTriggers, AllButRefusedAreOnByDefault) {
   for (const Trigger trigger : kTriggers) {
     EXPECT_EQ(defaults.contains(trigger), trigger != Trigger::refused) << trigger_name(trigger);
   }
-  EXPECT_EQ(defaults.members().size(), 9u);
+  EXPECT_EQ(defaults.members().size(), 10u);
+  EXPECT_TRUE(defaults.contains(Trigger::estop));
 }
 
 TEST(RecordTriggers, TriggerAndNoTriggerChangeTheSet) {

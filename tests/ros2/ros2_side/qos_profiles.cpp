@@ -26,6 +26,7 @@ std::string to_string(RosQos profile) {
     case RosQos::default_profile: return "default";
     case RosQos::sensor_data: return "sensor_data";
     case RosQos::system_default: return "system_default";
+    case RosQos::latched: return "latched";
   }
   return "?";
 }
@@ -47,6 +48,11 @@ dds::DataReaderQos reader_qos(RosQos profile) {
       set_history(qos, 5);
       break;
     case RosQos::system_default:
+      break;
+    case RosQos::latched:
+      qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
+      qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
+      set_history(qos, 1);
       break;
   }
   return qos;

@@ -13,6 +13,7 @@ enum class RosQos {
   default_profile,  // RELIABLE, KEEP_LAST 10, VOLATILE (teleop, QoS(10))
   sensor_data,      // BEST_EFFORT, KEEP_LAST 5, VOLATILE (robot_localization)
   system_default,   // Fast DDS's own default: BEST_EFFORT, KEEP_LAST 1 (nav2's OdomSmoother)
+  latched,          // RELIABLE, KEEP_LAST 1, TRANSIENT_LOCAL (QoS(1).transient_local(): a latched state)
 };
 
 std::string to_string(RosQos profile);

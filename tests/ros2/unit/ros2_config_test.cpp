@@ -29,6 +29,7 @@ TEST(Ros2Config, DefaultsAreTheSpecs) {
   EXPECT_EQ(config.frames.imu, "gyro_link");
   EXPECT_EQ(config.log.level, "info");
   EXPECT_FALSE(config.cmd_vel_stamped);
+  EXPECT_FALSE(config.allow_e_stop_reset);
   EXPECT_FALSE(config.battery.empty_v);
   EXPECT_FALSE(config.battery.full_v);
   EXPECT_EQ(config.battery.technology, BatteryTechnology::unknown);
@@ -40,7 +41,7 @@ TEST(Ros2Config, ReadsEveryKey) {
     "publish_tf": false, "frames": {"odom": "odom_wheels", "base": "base_link", "imu": "imu_link"},
     "covariance": {"pose": [1, 2, 3, 4, 5, 6], "twist": [6, 5, 4, 3, 2, 1], "orientation": [0.1, 0.2, 0.3],
                    "angular_velocity": [0.4, 0.5, 0.6], "linear_acceleration": [0.7, 0.8, 0.9]},
-    "cmd_vel_stamped": true, "battery": {"empty_v": 20.0, "full_v": 25.2, "technology": "life"},
+    "cmd_vel_stamped": true, "allow_e_stop_reset": true, "battery": {"empty_v": 20.0, "full_v": 25.2, "technology": "life"},
     "log": {"level": "debug"}})");
   EXPECT_EQ(config.socket, "/run/w.sock");
   EXPECT_EQ(config.domain_id, 42);
@@ -57,6 +58,7 @@ TEST(Ros2Config, ReadsEveryKey) {
   EXPECT_EQ(config.covariance.linear_acceleration, (std::array<double, 3>{0.7, 0.8, 0.9}));
   EXPECT_EQ(config.log.level, "debug");
   EXPECT_TRUE(config.cmd_vel_stamped);
+  EXPECT_TRUE(config.allow_e_stop_reset);
   EXPECT_EQ(config.battery.empty_v, 20.0);
   EXPECT_EQ(config.battery.full_v, 25.2);
   EXPECT_EQ(config.battery.technology, BatteryTechnology::life);
@@ -89,6 +91,7 @@ TEST(Ros2Config, ABadBatteryKeyIsNamed) {
   EXPECT_EQ(refused_key(R"({"battery": {"full": 12}})"), "battery.full");
   EXPECT_EQ(refused_key(R"({"battery": 12})"), "battery");
   EXPECT_EQ(refused_key(R"({"cmd_vel_stamped": "yes"})"), "cmd_vel_stamped");
+  EXPECT_EQ(refused_key(R"({"allow_e_stop_reset": 1})"), "allow_e_stop_reset");
 }
 
 TEST(Ros2Config, ANonFiniteBatteryVoltageIsNamed) {
