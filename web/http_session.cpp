@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/error_codes.hpp"
 #include "wheeltec/service/logging.hpp"
 
 #include "access.hpp"
@@ -17,6 +18,7 @@
 #include "foxglove.hpp"
 #include "record_directory.hpp"
 #include "record_files.hpp"
+#include "safety_request.hpp"
 #include "server.hpp"
 #include "viewer.hpp"
 
@@ -104,6 +106,8 @@ void HttpSession::handle(Request request) {
   for (const DaemonRoute& route : kDaemonRoutes) {
     if (path == route.path) return relay(request, route);
   }
+  if (path == "/api/estop") return safety(request, "estop");
+  if (path == "/api/release") return safety(request, "release");
   if (path == kRecordsPath || record_name_in_path(path)) return records(request, path);
   const StaticFile* file = server_.files().find(path);
   if (file == nullptr) {
@@ -136,16 +140,9 @@ void HttpSession::upgrade(Request request) {
                         fmt::format("origin {} is not allowed (wheeltec-web --allow-origin)", origin->substr(0, 200)),
                         false);
   }
-  std::optional<std::string> token;
-  if (const auto authorization = header(request, http::field::authorization)) token = bearer_token(*authorization);
-  if (!token) token = query_parameter(target, "token");
-  const bool token_ok = server_.token_matches(token);
-  if (token && !token_ok) return respond_text(http::status::unauthorized, "wrong token", false);
-  boost::system::error_code ec;
-  const auto peer = stream_.tcp().socket().remote_endpoint(ec);
-  const bool trusted_local =
-      server_.config().trust_localhost && !ec && peer.address().is_loopback() && is_loopback_host(host);
-  const bool may_drive = token_ok || trusted_local;
+  const DriveRight right = drive_right(request);
+  if (right == DriveRight::wrong_token) return respond_text(http::status::unauthorized, "wrong token", false);
+  const bool may_drive = right == DriveRight::may_drive;
   if (!server_.viewer_slot_free()) {
     return respond_text(http::status::service_unavailable,
                         fmt::format("too many viewers (max_clients {})", server_.config().max_clients), false);
@@ -154,6 +151,67 @@ void HttpSession::upgrade(Request request) {
   auto viewer = std::make_shared<Viewer>(server_, std::move(stream_), may_drive, server_.next_session_id());
   server_.add_viewer(viewer);
   viewer->start(std::move(request));
+}
+
+HttpSession::DriveRight HttpSession::drive_right(const Request& request) {
+  const std::string_view target(request.target().data(), request.target().size());
+  std::optional<std::string> token;
+  if (const auto authorization = header(request, http::field::authorization)) token = bearer_token(*authorization);
+  if (!token) token = query_parameter(target, "token");
+  const bool token_ok = server_.token_matches(token);
+  if (token && !token_ok) return DriveRight::wrong_token;
+  boost::system::error_code ec;
+  const auto peer = stream_.tcp().socket().remote_endpoint(ec);
+  const bool trusted_local = server_.config().trust_localhost && !ec && peer.address().is_loopback() &&
+                             is_loopback_host(header(request, http::field::host).value_or(""));
+  return token_ok || trusted_local ? DriveRight::may_drive : DriveRight::read_only;
+}
+
+void HttpSession::safety(const Request& request, const std::string& method) {
+  const bool keep_alive = request.keep_alive();
+  if (request.method() != http::verb::post) {
+    return respond_text(http::status::method_not_allowed, fmt::format("/api/{} takes POST", method), keep_alive,
+                        "POST");
+  }
+  const auto refuse = [&](int code, std::string_view message) {
+    respond(static_cast<http::status>(http_status_of_rpc_error(code)), "application/json",
+            rpc_error_body(code, message).dump() + "\n", keep_alive);
+  };
+  client::Json params = nullptr;
+  if (method == "estop") {
+    auto parsed = estop_params(request.body());
+    if (const auto* problem = std::get_if<RequestProblem>(&parsed)) {
+      return refuse(error_codes::kInvalidParams, "estop: " + problem->message);
+    }
+    params = std::move(std::get<client::Json>(parsed));
+  } else {
+    const DriveRight right = drive_right(request);
+    if (right == DriveRight::wrong_token) return refuse(error_codes::kNotPermitted, "release: wrong token");
+    if (right == DriveRight::read_only) {
+      return refuse(error_codes::kNotPermitted, server_.driving_configured()
+                                                    ? "release needs the token (Authorization: Bearer TOKEN)"
+                                                    : "release needs the token, and wheeltec-web was started "
+                                                      "without --token-file");
+    }
+  }
+  server_.daemon_call(method, std::move(params),
+                      [self = shared_from_this(), keep_alive, method](boost::system::error_code ec,
+                                                                     const client::Json& answer) {
+                        if (!ec) return self->respond(http::status::ok, "application/json", answer.dump() + "\n",
+                                                      keep_alive);
+                        if (ec.category() != client::rpc_category()) {
+                          const client::Json body = rpc_error_body(
+                              error_codes::kDaemonUnreachable, method + " failed: " + self->daemon_problem(ec));
+                          return self->respond(http::status::service_unavailable, "application/json",
+                                               body.dump() + "\n", keep_alive);
+                        }
+                        client::Json body = answer.is_object() ? answer : rpc_error_body(ec.value(), ec.message());
+                        body["code"] = ec.value();
+                        self->respond(static_cast<http::status>(http_status_of_rpc_error(ec.value())),
+                                      "application/json",
+                                      body.dump(-1, ' ', false, client::Json::error_handler_t::replace) + "\n",
+                                      keep_alive);
+                      });
 }
 
 void HttpSession::relay(const Request& request, const DaemonRoute& route) {

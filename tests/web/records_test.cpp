@@ -48,48 +48,12 @@ void write_file(const std::filesystem::path& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
 }
 
-struct HttpAnswer {
-  int status = 0;
-  std::string head;  // status line and headers
-  std::string body;
-  std::string rest;  // what followed the body (the next response on a kept-alive connection)
-};
-
-// One response off the front of `raw`, its body as long as Content-Length says.
-HttpAnswer parse_answer(const std::string& raw) {
-  HttpAnswer answer;
-  const auto end = raw.find("\r\n\r\n");
-  if (raw.rfind("HTTP/1.1 ", 0) != 0 || end == std::string::npos) {
-    answer.head = raw.substr(0, 300);
-    return answer;
-  }
-  answer.status = std::stoi(raw.substr(9, 3));
-  answer.head = raw.substr(0, end);
-  std::smatch length;
-  std::size_t size = raw.size() - end - 4;
-  if (std::regex_search(answer.head, length, std::regex("\r\nContent-Length: ([0-9]+)"))) {
-    size = std::min<std::size_t>(size, std::stoull(length[1]));
-  }
-  answer.body = raw.substr(end + 4, size);
-  answer.rest = raw.substr(end + 4 + size);
-  return answer;
-}
-
 // One request on a connection of its own; `headers` each end in CR LF.
 HttpAnswer http_request(const std::string& method, const std::string& target, const std::string& headers = "") {
-  return parse_answer(integration::loopback_exchange(
-      kRecordsPort,
-      method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" + headers + "Connection: close\r\n\r\n"));
+  return web_tests::http_request(kRecordsPort, method, target, headers);
 }
 HttpAnswer http_get(const std::string& target, const std::string& headers = "") {
   return http_request("GET", target, headers);
-}
-
-std::string header_line(const HttpAnswer& answer, const std::string& name) {
-  const auto at = answer.head.find("\r\n" + name + ": ");
-  if (at == std::string::npos) return "";
-  const auto start = at + 4 + name.size();
-  return answer.head.substr(start, answer.head.find("\r\n", start) - start);
 }
 
 class WebRecords : public SerialWebTest {

@@ -1,6 +1,7 @@
 // wheeltec-web's page: a Foxglove WebSocket protocol client (the same protocol and server
 // code path as Foxglove itself) for the plots, the status and the joystick; plain HTTP for
-// STOP, the daemon's counters and the recorder's files. docs/web.md describes it.
+// STOP, E-STOP and Release, the daemon's counters and the recorder's files. docs/web.md
+// describes it.
 'use strict';
 
 const WINDOW_S = 30;            // plotted history
@@ -89,6 +90,47 @@ function onStatus(s) {
   $('enabled').textContent = yes(s.control.enabled);
   $('owner').textContent = s.control.owner === null ? 'nobody' : `client ${s.control.owner}`;
   commanded = s.control.target || { vx: 0, vy: 0, wz: 0 };
+  safety = s.safety || null;
+  showSafety();
+}
+
+// --- the latched emergency stop (protocol 5): status `safety`, E-STOP and Release ---
+let safety = null;     // status `safety`; null from a daemon before protocol 5
+let readOnly = false;  // the server said this page may not drive
+function showSafety() {
+  const latched = Boolean(safety && safety.latched);
+  document.body.dataset.latched = String(latched);
+  $('safety').textContent = !safety ? '-' : latched ? `latched (${safety.source})` : 'not latched';
+  $('safety').className = latched ? 'bad' : '';
+  $('safety-banner').hidden = !latched;
+  $('release').hidden = !latched || readOnly;
+  if (!latched) return;
+  const by = safety.source === 'client' && safety.by !== null ? ` (client ${safety.by})` : '';
+  const since = safety.since ? new Date(safety.since * 1000) : null;
+  $('safety-text').textContent = `source: ${safety.source}${by}; reason: ${safety.reason ? safety.reason : '(none given)'}` +
+    (since ? `; since ${since.toLocaleString()}` : '');
+}
+// The answer of /api/estop or /api/release: {} or the daemon's error object with its code.
+async function safetyRequest(what, init) {
+  try {
+    const response = await fetch(`/api/${what}`, Object.assign({ method: 'POST' }, init));
+    const text = await response.text();
+    let answer = null;
+    try { answer = JSON.parse(text); } catch (error) { /* a plain-text refusal */ }
+    if (response.ok) { showMessage(0, `${what === 'estop' ? 'E-STOP' : 'Release'} sent`); return; }
+    const why = answer && answer.message ? `${answer.message} (${answer.code})` : text;
+    showMessage(2, `${what === 'estop' ? 'E-STOP' : 'Release'} refused: ${why}`);
+  } catch (error) {
+    showMessage(2, `${what === 'estop' ? 'E-STOP' : 'Release'} failed: ${error}`);
+  }
+}
+function estop() {
+  joystickRelease(false);
+  return safetyRequest('estop', { headers: { 'Content-Type': 'application/json' },
+    body: JSON.stringify({ reason: 'operator pressed E-STOP' }) });
+}
+function release() {
+  return safetyRequest('release', { headers: token ? { Authorization: `Bearer ${token}` } : {} });
 }
 
 function drawPath() {
@@ -155,7 +197,12 @@ function onText(msg) {
     ws.send(JSON.stringify({ op: 'advertise', channels: [{ id: cmdVelChannel, topic: '/wheeltec/cmd_vel',
       encoding: 'json', schemaName: 'wheeltec.CmdVel' }] }));
   } else if (msg.op === 'status') {
-    if (msg.id === 'read-only') { $('mode').textContent = 'read-only (no token): STOP only'; return; }
+    if (msg.id === 'read-only') {
+      readOnly = true;
+      $('mode').textContent = 'read-only (no token): STOP and E-STOP only';
+      showSafety();
+      return;
+    }
     if (msg.id === 'slow-viewer') droppedHere++;
     if (msg.id === 'drive-refused') { $('refusal').textContent = msg.message; joystickRelease(false); }
     showMessage(msg.level, msg.message);
@@ -293,6 +340,8 @@ async function pollRecords() {
 makeGraphs();
 setupJoystick();
 $('stop').addEventListener('click', stop);
+$('estop').addEventListener('click', estop);
+$('release').addEventListener('click', release);
 connect();
 pollStats();
 setInterval(pollStats, 2000);
