@@ -14,10 +14,12 @@
 #include "wheeltec/service/logging.hpp"
 
 #include "access.hpp"
+#include "byte_range.hpp"
 #include "file_response.hpp"
 #include "foxglove.hpp"
 #include "record_directory.hpp"
 #include "record_files.hpp"
+#include "record_messages.hpp"
 #include "safety_request.hpp"
 #include "server.hpp"
 #include "viewer.hpp"
@@ -234,6 +236,13 @@ void HttpSession::relay(const Request& request, const DaemonRoute& route) {
 
 void HttpSession::records(const Request& request, std::string_view path) {
   const bool keep_alive = request.keep_alive();
+  if (const auto messages = record_messages_name_in_path(path); messages && record_of_name(*messages)) {
+    if (request.method() != http::verb::get) {
+      return respond_text(http::status::method_not_allowed, fmt::format("{} takes GET", path.substr(0, 200)),
+                          keep_alive, "GET");
+    }
+    return record_messages(*messages, keep_alive);
+  }
   const auto name = record_name_in_path(path);
   if (name && !record_of_name(*name)) {
     return respond_text(http::status::not_found, fmt::format("no such recording: {}", name->substr(0, 200)),
@@ -243,13 +252,35 @@ void HttpSession::records(const Request& request, std::string_view path) {
     return respond_text(http::status::method_not_allowed, fmt::format("{} takes GET", path.substr(0, 200)), keep_alive,
                         "GET");
   }
-  if (name) return download(*name, keep_alive);
+  if (name) return download(*name, header(request, http::field::range), keep_alive);
   const DirectoryListing listing = list_directory(server_.config().record_dir);
   if (!listing.error.empty()) return respond_text(http::status::internal_server_error, listing.error, keep_alive);
   respond(http::status::ok, "application/json", recordings_json(recordings(listing.entries)), keep_alive);
 }
 
-void HttpSession::download(std::string_view name, bool keep_alive) {
+void HttpSession::record_messages(std::string_view name, bool keep_alive) {
+  const ReadRecord read = read_recording(server_.config().record_dir, name, kMaxMessagesFileBytes);
+  if (read.missing) {
+    return respond_text(http::status::not_found, fmt::format("no such recording: {}", name), keep_alive);
+  }
+  if (!read.error.empty()) return respond_text(http::status::internal_server_error, read.error, keep_alive);
+  if (read.too_large) {
+    return respond(http::status::payload_too_large, "application/json",
+                   record_error_json(name, fmt::format("the file is larger than the {} MiB the viewer reads; "
+                                                       "download it instead",
+                                                       kMaxMessagesFileBytes >> 20)),
+                   keep_alive);
+  }
+  const auto bytes = mcap::ByteView(reinterpret_cast<const std::byte*>(read.bytes.data()), read.bytes.size());
+  auto answer = record_messages_json(name, bytes);
+  if (const auto* unreadable = std::get_if<UnreadableRecord>(&answer)) {
+    return respond(http::status::unprocessable_entity, "application/json",
+                   record_error_json(name, "not a readable MCAP file: " + unreadable->problem), keep_alive);
+  }
+  respond(http::status::ok, "application/json", std::move(std::get<std::string>(answer)), keep_alive);
+}
+
+void HttpSession::download(std::string_view name, std::optional<std::string_view> range_header, bool keep_alive) {
   const OpenedRecord opened = open_recording(server_.config().record_dir, name);
   if (opened.missing) {
     return respond_text(http::status::not_found, fmt::format("no such recording: {}", name), keep_alive);
@@ -257,13 +288,38 @@ void HttpSession::download(std::string_view name, bool keep_alive) {
   if (opened.fd < 0) return respond_text(http::status::internal_server_error, opened.error, keep_alive);
   beast::file file;
   file.native_handle(opened.fd);
-  auto response = std::make_shared<FileResponse>(http::status::ok, request_version_);
   beast::error_code ec;
-  response->body().reset(std::move(file), ec);
+  const std::uint64_t file_size = file.size(ec);
   if (ec) {
     return respond_text(http::status::internal_server_error, fmt::format("{}: {}", name, ec.message()), keep_alive);
   }
+  const RangeAnswer range = range_of(range_header, file_size);
+  if (std::holds_alternative<RangeNotSatisfiable>(range)) {
+    auto response = std::make_shared<http::response<http::string_body>>(http::status::range_not_satisfiable,
+                                                                         request_version_);
+    set_common_headers(*response);
+    response->set(http::field::content_type, "text/plain; charset=utf-8");
+    response->set(http::field::content_range, unsatisfied_range(file_size));
+    response->set(http::field::accept_ranges, "bytes");
+    response->body() = fmt::format("{} has {} bytes: the range {} is outside it\n", name, file_size,
+                                   range_header->substr(0, 100));
+    response->keep_alive(keep_alive);
+    response->prepare_payload();
+    stream_.tcp().expires_after(kRequestTimeout);
+    return http::async_write(stream_, *response,
+                             [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
+                               self->written(ec, response->keep_alive());
+                             });
+  }
+  const auto* part = std::get_if<ByteRange>(&range);
+  auto response =
+      std::make_shared<FileResponse>(part ? http::status::partial_content : http::status::ok, request_version_);
+  response->body().file = std::move(file);
+  response->body().offset = part ? part->first : 0;
+  response->body().size = part ? part->size() : file_size;
   set_common_headers(*response);
+  response->set(http::field::accept_ranges, "bytes");
+  if (part) response->set(http::field::content_range, content_range(*part, file_size));
   response->set(http::field::content_type, "application/octet-stream");
   response->set(http::field::content_disposition, fmt::format("attachment; filename=\"{}\"", name));
   response->keep_alive(keep_alive);

@@ -50,7 +50,10 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   std::string daemon_problem(boost::system::error_code ec) const;
   // GET /api/records (the list) and /api/records/NAME (one file, in pieces).
   void records(const Request& request, std::string_view path);
-  void download(std::string_view name, bool keep_alive);
+  // GET /api/records/NAME, the whole file or the one range asked for (byte_range.hpp).
+  void download(std::string_view name, std::optional<std::string_view> range_header, bool keep_alive);
+  // GET /api/records/NAME/messages (record_messages.hpp).
+  void record_messages(std::string_view name, bool keep_alive);
   void respond(boost::beast::http::status status, std::string content_type, std::string body, bool keep_alive,
                std::string_view allow = {});
   void respond_text(boost::beast::http::status status, std::string text, bool keep_alive, std::string_view allow = {});

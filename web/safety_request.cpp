@@ -8,7 +8,7 @@
 namespace wheeltec::web {
 namespace {
 
-bool blank(std::string_view text) {
+bool blank_text(std::string_view text) {
   return text.find_first_not_of(" \t\r\n") == std::string_view::npos;
 }
 
@@ -18,7 +18,7 @@ constexpr int kEmergencyStopLatched = -32007;
 }  // namespace
 
 std::variant<Json, RequestProblem> estop_params(std::string_view body) {
-  if (blank(body)) return Json::object();
+  if (blank_text(body)) return Json::object();
   json_text::StrictRead read = json_text::read_strict(body, json_text::kMaxMessageDepth);
   if (read.refusal) {
     if (read.refusal->reason == json_text::Refusal::Reason::not_json) {
