@@ -90,6 +90,8 @@ function onStatus(s) {
   $('enabled').textContent = yes(s.control.enabled);
   $('owner').textContent = s.control.owner === null ? 'nobody' : `client ${s.control.owner}`;
   commanded = s.control.target || { vx: 0, vy: 0, wz: 0 };
+  chassisType = s.chassis.type || null;
+  limits = s.control.limits || null;
   safety = s.safety || null;
   showSafety();
 }
@@ -124,10 +126,9 @@ async function safetyRequest(what, init) {
     showMessage(2, `${what === 'estop' ? 'E-STOP' : 'Release'} failed: ${error}`);
   }
 }
-function estop() {
+function estop(reason = 'operator pressed E-STOP') {
   joystickRelease(false);
-  return safetyRequest('estop', { headers: { 'Content-Type': 'application/json' },
-    body: JSON.stringify({ reason: 'operator pressed E-STOP' }) });
+  return safetyRequest('estop', { headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ reason }) });
 }
 function release() {
   return safetyRequest('release', { headers: token ? { Authorization: `Bearer ${token}` } : {} });
@@ -274,6 +275,84 @@ function setupJoystick() {
   document.addEventListener('visibilitychange', () => { if (document.hidden) { keys.clear(); joystickRelease(); } });
   window.addEventListener('pagehide', () => { joystickRelease(); if (ws) ws.close(); });
   drawJoystick(0, 0);
+}
+
+// --- the gamepad (the Gamepad API, standard mapping; spec section 14) ---
+// Drives only while LB (button 4) is held, like teleop_twist_joy's deadman button; RB (5)
+// scales to the daemon's limits; B (1) is E-STOP. Any way the pad can go away, and the page
+// being hidden or closed, sends a `stop` at once instead of waiting for the deadman.
+const PAD_POLL_MS = 50;  // 20 polls a second; a held pad publishes on each
+const DEAD_ZONE = 0.1;
+const HOLONOMIC = new Set(['mecanum', 'omni']);
+let chassisType = null, limits = null;  // status chassis.type, control.limits (protocol 5)
+const pad = { index: null, id: null, driving: false, estopHeld: false };
+function connectedPad() {
+  const pads = navigator.getGamepads ? Array.from(navigator.getGamepads() || []) : [];
+  const usable = (p) => p && p.connected && p.mapping === 'standard';
+  if (pad.index !== null) return usable(pads[pad.index]) ? pads[pad.index] : null;
+  return pads.find(usable) || null;
+}
+function showPad(text) {
+  const line = $('gamepad');
+  line.textContent = text;
+  line.dataset.driving = String(pad.driving);
+  line.dataset.connected = String(pad.index !== null);
+}
+function padStop(why) {
+  if (!pad.driving) return;
+  pad.driving = false;
+  fetch('/api/stop', { method: 'POST', keepalive: true }).catch(() => {});
+  if (why) showMessage(0, `gamepad: stopped (${why})`);
+}
+function padLost(why) {
+  padStop(why);
+  if (pad.index !== null) showPad(`gamepad ${pad.id} gone (${why})`);
+  pad.index = null;
+  pad.id = null;
+  pad.estopHeld = false;
+}
+function padSpeeds(turbo) {
+  const limit = (axis, normal) => (limits && typeof limits[axis] === 'number'
+    ? (turbo ? limits[axis] : Math.min(normal, limits[axis])) : normal);
+  return { vx: limit('vx', MAX_VX), vy: limit('vy', MAX_VX), wz: limit('wz', MAX_WZ) };
+}
+function padAxis(p, i) {
+  const value = Number(p.axes[i] || 0);
+  return Math.abs(value) < DEAD_ZONE ? 0 : value;
+}
+function padPoll() {
+  const p = connectedPad();
+  if (!p) {
+    if (pad.index !== null) padLost('disconnected');
+    return;
+  }
+  if (pad.index === null) { pad.index = p.index; pad.id = p.id; }
+  const button = (i) => Boolean(p.buttons[i] && (p.buttons[i].pressed || p.buttons[i].value > 0.5));
+  if (button(1) && !pad.estopHeld) estop('gamepad');
+  pad.estopHeld = button(1);
+  if (!button(4) || document.hidden) {
+    padStop(document.hidden ? 'page hidden' : 'LB released');
+    showPad(`gamepad ${p.id}: idle${readOnly ? ' (read-only: driving needs the token)' : ' (hold LB to drive)'}`);
+    return;
+  }
+  if (readOnly) { showPad(`gamepad ${p.id}: read-only, driving needs the token`); return; }
+  const max = padSpeeds(button(5));
+  const round = (v) => Number(v.toFixed(3)) + 0;  // + 0: no -0
+  const v = { vx: round(-padAxis(p, 1) * max.vx), vy: HOLONOMIC.has(chassisType) ? round(-padAxis(p, 0) * max.vy) : 0,
+              wz: round(-padAxis(p, 2) * max.wz) };
+  pad.driving = true;
+  publishDrive(v);
+  showPad(`gamepad ${p.id}: driving vx ${v.vx} m/s, vy ${v.vy} m/s, wz ${v.wz} rad/s${button(5) ? ' (turbo)' : ''}`);
+}
+function setupGamepad() {
+  if (!navigator.getGamepads) { showPad('no Gamepad API in this browser'); return; }
+  window.addEventListener('gamepadconnected', () => padPoll());
+  window.addEventListener('gamepaddisconnected', (e) => {
+    if (e.gamepad && e.gamepad.index === pad.index) padLost('disconnected');
+  });
+  document.addEventListener('visibilitychange', () => { if (document.hidden) padStop('page hidden'); });
+  window.addEventListener('pagehide', () => padStop());
+  setInterval(padPoll, PAD_POLL_MS);
 }
 
 // --- STOP and the daemon's counters over HTTP ---
@@ -479,8 +558,9 @@ incidentFromHash();
 
 makeGraphs();
 setupJoystick();
+setupGamepad();
 $('stop').addEventListener('click', stop);
-$('estop').addEventListener('click', estop);
+$('estop').addEventListener('click', () => estop());
 $('release').addEventListener('click', release);
 connect();
 pollStats();
