@@ -170,7 +170,15 @@ std::string event_text(const std::string& kind, const Json& event) {
     if (ok.is_boolean() && ok.get<bool>()) return "reload: configuration reloaded";
     return "reload failed: " + message_text(member_or_null(event, "message"));
   }
-  if (kind == "disconnected" || kind == "stop" || kind == "enable" || kind == "disable") return kind;
+  if (kind == "estop") {
+    const Json& reason = member_or_null(event, "reason");
+    std::string text = "estop (" + string_text(member_or_null(event, "source")) + ")";
+    if (reason.is_string() && !reason.get_ref<const std::string&>().empty()) text += ": " + quoted_text(reason);
+    return text;
+  }
+  if (kind == "disconnected" || kind == "stop" || kind == "enable" || kind == "disable" || kind == "release") {
+    return kind;
+  }
   // A kind of a later protocol: its members as they are.
   std::string text = kind;
   for (const auto& [key, value] : event.items()) {
@@ -178,6 +186,21 @@ std::string event_text(const std::string& kind, const Json& event) {
     text += fmt::format(" {}={}", key, value.dump(-1, ' ', false, Json::error_handler_t::replace));
   }
   return text;
+}
+
+// The status' safety line: "not latched", or what latched it, why, by whom and how long ago.
+std::string safety_text(const Json& safety, double now_s) {
+  const Json& latched = member_or_null(safety, "latched");
+  if (!latched.is_boolean()) return std::string(kUnknown);
+  if (!latched.get<bool>()) return "not latched";
+  const Json& by = member_or_null(safety, "by");
+  const Json& reason = member_or_null(safety, "reason");
+  const Json& since = member_or_null(safety, "since");
+  std::string text = fmt::format("EMERGENCY STOP latched ({})", string_text(member_or_null(safety, "source")));
+  if (by.is_number_unsigned()) text += fmt::format(" by client {}", by.get<std::uint64_t>());
+  if (reason.is_string() && !reason.get_ref<const std::string&>().empty()) text += ": " + quoted_text(reason);
+  if (since.is_number()) text += fmt::format(", {:.0f} s ago", std::max(0.0, now_s - since.get<double>()));
+  return text + "; wheeltecctl release to drive again";
 }
 
 void flatten(const Json& value, const std::string& name,
@@ -193,7 +216,7 @@ void flatten(const Json& value, const std::string& name,
 
 }  // namespace
 
-std::string format_status(const Json& status) {
+std::string format_status(const Json& status, double now_s) {
   const Json& bus = member_or_null(status, "bus");
   const Json& chassis = member_or_null(status, "chassis");
   const Json& control = member_or_null(status, "control");
@@ -213,6 +236,8 @@ std::string format_status(const Json& status) {
   if (const Json* dock = find_member(status, "dock")) text += fmt::format("dock:     {}\n", dock_text(*dock));
   text += fmt::format("control:  {}\n", control_text(control));
   text += fmt::format("target:   {}\n", velocity_text(member_or_null(control, "target")));
+  // Daemons before protocol 5 have no emergency stop.
+  if (const Json* safety = find_member(status, "safety")) text += fmt::format("safety:   {}\n", safety_text(*safety, now_s));
   // Daemons before the odometry scale have no such member.
   if (const Json* odometry = find_member(status, "odometry")) {
     const Json& scale = member_or_null(*odometry, "scale");

@@ -14,7 +14,8 @@ using Json = nlohmann::ordered_json;
 
 // Multi-line aligned block: daemon, bus, chassis (with its phase and a warning when it
 // ignores commands), battery, dock (when the daemon reports one), control, target. Ends in '\n'.
-std::string format_status(const Json& status);
+// `now_s` (seconds since the epoch) says how long ago the emergency stop latched.
+std::string format_status(const Json& status, double now_s);
 
 // One line per telemetry record: seq, velocities, battery, odometry, attitude (when the
 // record has one). No '\n'.

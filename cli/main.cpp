@@ -80,6 +80,14 @@ int run(int argc, char** argv) {
       ->type_name("SECONDS");
 
   app.add_subcommand("stop", "Stop the robot now and release control (works for anyone)");
+  std::vector<std::string> estop_words;
+  CLI::App* estop = app.add_subcommand(
+      "estop",
+      "Emergency stop (works for anyone): zero velocity now, and every drive and enable is\n"
+      "refused until someone with control rights runs release. REASON (several words are\n"
+      "joined by spaces; at most 200 characters) is shown in status and the events");
+  estop->add_option("reason", estop_words, "Why")->expected(0, -1)->type_name("REASON");
+  app.add_subcommand("release", "Release the emergency stop (needs control rights); nothing moves until a new drive");
   app.add_subcommand("enable", "Enable control");
   app.add_subcommand("disable", "Stop and disable control");
   app.add_subcommand("reset-odometry", "Reset the odometry to zero");
@@ -148,6 +156,10 @@ int run(int argc, char** argv) {
   if (name == "watch") return run_watch(options, static_cast<std::uint64_t>(watch_count));
   if (name == "events") return run_events(options, static_cast<std::uint64_t>(events_count));
   if (name == "mark") return run_action(options, "mark", Json{{"text", CLI::detail::join(mark_words, " ")}});
+  if (name == "estop") {
+    return run_action(options, "estop",
+                      estop_words.empty() ? Json() : Json{{"reason", CLI::detail::join(estop_words, " ")}});
+  }
   if (name == "drive") {
     const auto velocity = parse_drive_velocity(drive_values);
     if (const auto* message = std::get_if<std::string>(&velocity)) {

@@ -1,3 +1,4 @@
+#include <chrono>
 #include <iostream>
 
 #include "cli_error.hpp"
@@ -13,7 +14,8 @@ int run_query(const GlobalOptions& options, const std::string& method) {
   if (options.json) {
     std::cout << result.dump() << '\n';
   } else if (method == "status") {
-    std::cout << format_status(result);
+    const auto now = std::chrono::system_clock::now().time_since_epoch();
+    std::cout << format_status(result, std::chrono::duration<double>(now).count());
   } else if (method == "telemetry") {
     std::cout << format_telemetry_line(result) << '\n';
   } else if (method == "stats") {

@@ -53,6 +53,12 @@ foreach(source IN ITEMS packaging/debian/changelog CHANGELOG.md)
 endforeach()
 add_custom_target(wheeltec_compressed_docs ALL DEPENDS ${WHEELTEC_COMPRESSED_FILES})
 
+# The Python client (`import wheeltec`, docs/python.md): pure Python, for Debian's python3,
+# which reads /usr/lib/python3/dist-packages whatever its minor version.
+set(WHEELTEC_PYTHON_DIR "lib/python3/dist-packages" CACHE STRING "directory of the Python package wheeltec, relative to the prefix")
+install(DIRECTORY python/wheeltec DESTINATION ${WHEELTEC_PYTHON_DIR}
+        FILES_MATCHING PATTERN "*.py" PATTERN "py.typed" PATTERN "__pycache__" EXCLUDE)
+
 install(FILES packaging/debian/copyright README.md DESTINATION ${WHEELTEC_DOC_DIR})
 install(DIRECTORY docs/ DESTINATION ${WHEELTEC_DOC_DIR} FILES_MATCHING PATTERN "*.md")
 
@@ -74,15 +80,17 @@ odometry, joystick) to browsers and to Foxglove; wheeltec-ros2 publishes the
 robot as ROS 2 topics (odom, imu, tf, diagnostics; cmd_vel in) over Cyclone
 DDS, with no ROS installed; wheeltec-record is the black box, writing the
 minute around each incident to an MCAP file for Foxglove (the bridges' and the
-recorder's services are installed disabled).")
+recorder's services are installed disabled). The Python package wheeltec
+(import wheeltec) is the daemon's client for scripts.")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION misc)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-# libjs-dygraphs: wheeltec-web serves its plotting library from /usr/share/javascript.
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs")
+# libjs-dygraphs: wheeltec-web serves its plotting library from /usr/share/javascript;
+# python3: the Python client.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libjs-dygraphs, python3")
 # wheeltec-ros2 links Debian's Cyclone DDS (libddsc.so.0debian, from cyclonedds-dev);
 # shlibdeps finds it too, but the package names it as the version the bridge was checked
 # against (0.10.2: XCDR1 without type information, as rmw_cyclonedds).

@@ -37,6 +37,7 @@ std::variant<ReloadedConfig, std::string> reload_config(const Options& options, 
   keep(fresh.api.socket, running.api.socket, "api.socket");
   keep(fresh.api.mode, running.api.mode, "api.mode");
   keep(fresh.api.group, running.api.group, "api.group");
+  keep(fresh.safety.state_file, running.safety.state_file, "safety.state_file");
   return std::move(*reloaded);
 }
 

@@ -10,7 +10,8 @@ ControlIo::ControlIo(boost::asio::io_context& io, ChassisLink& link, const Gatew
       enable_timer_(io),
       deadman_timer_(io),
       offline_timer_(io),
-      stall_guard_(link.zero_frame(), config.control.rate_hz) {}
+      stall_guard_(link.zero_frame(), config.control.rate_hz),
+      latch_file_(config.safety.state_file) {}
 
 void ControlIo::AsioTimer::wait_until(MonotonicNanos expiry, Handler handler) {
   const std::uint64_t generation = ++generation_;

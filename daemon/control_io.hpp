@@ -10,19 +10,21 @@
 #include "chassis_link.hpp"
 #include "control_ports.hpp"
 #include "periodic_timer.hpp"
+#include "safety_state_file.hpp"
 #include "stall_sentinel.hpp"
 
 namespace wheeltec::daemon {
 
 // The daemon's ControlPorts: the steady clock, the chassis link, a timerfd tick, three Asio
-// timers and the stall sentinel, retimed when the control rate changes.
+// timers, the stall sentinel (retimed when the control rate changes) and the latch's state file.
 class ControlIo {
  public:
   ControlIo(boost::asio::io_context& io, ChassisLink& link, const GatewayConfig& config);
 
   ControlPorts ports() {
-    return {clock_, link_, period_timer_, enable_timer_, deadman_timer_, offline_timer_, stall_guard_};
+    return {clock_, link_, period_timer_, enable_timer_, deadman_timer_, offline_timer_, stall_guard_, latch_file_};
   }
+  const SafetyStateFile& latch_file() const { return latch_file_; }
   // The link's descriptor for the sentinel (-1: closed).
   void use_port(int fd) { stall_guard_.use_port(fd); }
 
@@ -74,6 +76,7 @@ class ControlIo {
   AsioTimer deadman_timer_;
   AsioTimer offline_timer_;
   SentinelGuard stall_guard_;
+  SafetyStateFile latch_file_;
 };
 
 }  // namespace wheeltec::daemon

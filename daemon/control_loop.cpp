@@ -25,6 +25,7 @@ SupervisorSettings supervisor_settings(const GatewayConfig& config) {
   settings.command_timeout = timer_interval(config.control.command_timeout_s);
   settings.telemetry_timeout = from_seconds<std::chrono::nanoseconds>(config.telemetry.timeout_s);
   settings.limits = config.control.limits;
+  settings.ramp = config.control.ramp;
   return settings;
 }
 
@@ -38,9 +39,16 @@ void ControlLoop::may_have_changed() {
   if (change_handler_) change_handler_();
 }
 
-void ControlLoop::send_command() {
-  if (supervisor_.link() == LinkState::down) return;  // nothing to send to; link_changed() catches up
-  if (ports_.link.send_command(supervisor_.command())) supervisor_.first_zero_sent();
+void ControlLoop::send_frame() {
+  if (supervisor_.link() == LinkState::down) return;
+  const MonotonicNanos now = ports_.clock.now();
+  const ControlCommand frame = supervisor_.frame(now);
+  if (ports_.link.send_command(frame)) supervisor_.frame_sent(frame, now);
+}
+
+void ControlLoop::send_zero_now() {
+  cancel_deadman();
+  send_frame();
 }
 
 void ControlLoop::send_enable(bool enable) {
@@ -52,9 +60,9 @@ void ControlLoop::start() {
   if (!supervisor_.start()) return;
   // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
   if (link_sent_zero()) {
-    supervisor_.first_zero_sent();
+    supervisor_.frame_sent(ControlCommand{}, ports_.clock.now());
   } else {
-    send_command();
+    send_frame();
   }
   ports_.stall_guard.start();
   if (config_.control.auto_enable) enable();
@@ -64,7 +72,7 @@ DriveResult ControlLoop::drive(ClientId client, const Velocity& target) {
   DriveResult result;
   result.decision = supervisor_.drive(client, target, ports_.clock.now());
   if (result.decision.refusal) return result;
-  if (result.decision.command_changed) send_command();  // the periodic schedule carries on unchanged
+  if (result.decision.command_changed) send_frame();  // the periodic schedule carries on unchanged
   arm_deadman();
   result.sent = supervisor_.target();
   result.clamped = supervisor_.command().clamped;
@@ -74,32 +82,52 @@ DriveResult ControlLoop::drive(ClientId client, const Velocity& target) {
 
 void ControlLoop::stop() {
   supervisor_.stop();
-  cancel_deadman();
-  send_command();  // always, even when the target already was zero
+  send_zero_now();  // always, even when the target already was zero
   may_have_changed();
 }
 
-void ControlLoop::enable() {
-  if (supervisor_.enabled()) {
-    send_enable(true);
-    return;
-  }
-  if (!supervisor_.enable()) return;
+EnableOutcome ControlLoop::enable() {
+  const EnableOutcome outcome = supervisor_.enable();
+  if (outcome == EnableOutcome::already_enabled) send_enable(true);
+  if (outcome != EnableOutcome::enabled) return outcome;
   spdlog::info("control enabled");
   send_enable(true);
   // The target is zero here. A link that zeroed the chassis itself when it came up has no
   // enable frame for a command to follow (the serial line): the periodic frames carry on.
-  if (!ports_.link.zeroes_when_up()) send_command();
+  if (!ports_.link.zeroes_when_up()) send_frame();
   start_periodic();
   ports_.stall_guard.beat();
   start_enable_refresh();
   may_have_changed();
+  return outcome;
 }
+
+bool ControlLoop::estop(const Latch& latch) {
+  if (!supervisor_.estop(latch)) return false;
+  send_zero_now();
+  spdlog::warn("emergency stop latched ({}{}{}): zero velocity until release", to_string(latch.source),
+               latch.reason.empty() ? "" : ": ", latch.reason);
+  latch_changed();
+  events_.publish(latch.source == LatchSource::client ? latch.by : std::nullopt,
+                  events::Estop{latch.source, latch.reason});
+  may_have_changed();
+  return true;
+}
+
+bool ControlLoop::release(std::optional<ClientId> by) {
+  if (!supervisor_.release()) return false;
+  spdlog::info("emergency stop released{}", by ? fmt::format(" by client {}", *by) : "");
+  latch_changed();
+  events_.publish(by, events::Release{});
+  may_have_changed();
+  return true;
+}
+
+void ControlLoop::latch_changed() { ports_.latch_store.save(supervisor_.safety()); }
 
 void ControlLoop::disable() {
   const bool was_enabled = supervisor_.disable();
-  cancel_deadman();
-  send_command();
+  send_zero_now();
   send_enable(false);
   ports_.period_timer.stop();
   ports_.stall_guard.disarm();
@@ -114,24 +142,24 @@ void ControlLoop::client_gone(ClientId client) {
   const MonotonicNanos now = ports_.clock.now();
   service::log_limited(released_log_, now, spdlog::level::info, "client {} gone while holding control: zero velocity",
                        client);
-  cancel_deadman();
-  send_command();
+  send_zero_now();
   report_lapse(*lapse, now);
   may_have_changed();
 }
 
 void ControlLoop::link_changed(LinkState state) {
   const LinkState before = supervisor_.link();
-  supervisor_.link_changed(state);
+  const MonotonicNanos now = ports_.clock.now();
+  supervisor_.link_changed(state, now);
   if (state == LinkState::up && before == LinkState::down) {
     if (link_sent_zero()) {
-      supervisor_.first_zero_sent();
-      if (supervisor_.enabled() && !(supervisor_.command() == ControlCommand{})) send_command();
+      supervisor_.frame_sent(ControlCommand{}, now);
+      if (supervisor_.enabled() && !(supervisor_.frame(now) == ControlCommand{})) send_frame();
     } else if (supervisor_.enabled()) {
       send_enable(true);
-      send_command();
+      send_frame();
     } else if (supervisor_.mode() == ControlMode::awaiting_first_zero) {
-      send_command();
+      send_frame();
     }
   }
   may_have_changed();
@@ -145,8 +173,7 @@ void ControlLoop::record(const PhaseInput& record) {
     if (outcome.control_released) {
       spdlog::warn("chassis {}: target zeroed and control released", to_string(phase_of(*outcome.stage)));
     }
-    cancel_deadman();
-    send_command();
+    send_zero_now();
   }
   log_command_response(outcome.response_before, outcome.response, config_);
   if (!offline_expiry_) arm_offline_timer();
@@ -176,9 +203,8 @@ void ControlLoop::shutdown() {
   ports_.enable_timer.cancel();
   ports_.offline_timer.cancel();
   offline_expiry_.reset();
-  cancel_deadman();
   supervisor_.shut_down();
-  send_command();
+  send_zero_now();
   if (config_.control.disable_on_exit) send_enable(false);
 }
 
@@ -190,7 +216,7 @@ void ControlLoop::apply(const GatewayConfig& config) {
   const ControlCommand before = supervisor_.command();
   supervisor_.apply(supervisor_settings(config_));
   // New limits apply to the current target at once.
-  if (!(supervisor_.command() == before) && supervisor_.enabled()) send_command();
+  if (!(supervisor_.command() == before) && supervisor_.enabled()) send_frame();
   if (period_changed) ports_.stall_guard.set_rate(config_.control.rate_hz);
   if (supervisor_.enabled() && period_changed) start_periodic();
   if (supervisor_.enabled() && refresh_changed) start_enable_refresh();
@@ -209,7 +235,12 @@ void ControlLoop::on_period() {
   // When the loop runs late, this tick and the deadman's wait can complete in the same turn,
   // this one first: a lapsed target must not go out in a periodic frame. Without an owner
   // there is no deadline, and no need to read the clock.
-  if (!supervisor_.deadman_deadline() || !release_if_lapsed()) send_command();
+  if (!supervisor_.deadman_deadline() || !release_if_lapsed()) {
+    const ControlCommand before = supervisor_.sent();
+    send_frame();
+    // A ramp moves what the frames carry (status control.sent) without a request.
+    if (!(supervisor_.sent() == before)) may_have_changed();
+  }
   ports_.stall_guard.beat();
 }
 
@@ -264,8 +295,7 @@ bool ControlLoop::release_if_lapsed() {
   service::log_limited(released_log_, now, spdlog::level::info,
                        "client {} stopped driving for {:g} s: zero velocity, control released", lapse->owner,
                        config_.control.command_timeout_s);
-  cancel_deadman();
-  send_command();
+  send_zero_now();
   report_lapse(*lapse, now);
   may_have_changed();
   return true;

@@ -44,8 +44,13 @@ class ControlLoop {
 
   DriveResult drive(ClientId client, const Velocity& target);
   void stop();                        // zero now, release control (from any client)
-  void enable();                      // enable frame, periodic frames start
+  EnableOutcome enable();             // enable frame, periodic frames start
   void disable();                     // zero, then disable frame, periodic frames stop
+  // The emergency stop: zero now (even when it already was), control released, the latch
+  // kept in the state file, the event; false when already latched (nothing changes).
+  bool estop(const Latch& latch);
+  // Clears the latch (kept in the state file, the event); false when it was not latched.
+  bool release(std::optional<ClientId> by);
   void client_gone(ClientId client);  // zero at once if it held control
   void link_changed(LinkState state); // up again: resend enable and the current command
   void record(const PhaseInput& record);  // a telemetry record was accepted
@@ -53,11 +58,16 @@ class ControlLoop {
   // Zero velocity, then the disable frame if disable_on_exit; timers stopped.
   void shutdown();
 
+  const SafetyState& safety() const { return supervisor_.safety(); }
+
   // Run-time changes (SIGHUP reload).
   void apply(const GatewayConfig& config);
 
  private:
-  void send_command();
+  // The supervisor's frame now, unless the link is down (link_changed() catches up).
+  void send_frame();
+  // Every stop's last step: no deadman left to fire, the (zero) frame out at once.
+  void send_zero_now();
   void send_enable(bool enable);
   void start_periodic();
   void on_period();
@@ -65,6 +75,7 @@ class ControlLoop {
   void arm_enable_timer();
   void arm_deadman();
   void cancel_deadman();
+  void latch_changed();
   // If the owner's deadline has passed: zero frame, control released; true if so.
   bool release_if_lapsed();
   // Control lapsed at `now` (zero already sent): the deadman event, if the chassis was moving.

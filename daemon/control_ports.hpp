@@ -6,6 +6,7 @@
 
 #include "wheeltec/clocks.hpp"
 #include "wheeltec/control_frame.hpp"
+#include "wheeltec/emergency_stop.hpp"
 
 namespace wheeltec::daemon {
 
@@ -63,6 +64,15 @@ class StallGuard {
   virtual void set_rate(double rate_hz) = 0;           // the control periods' rate changed
 };
 
+// Where the emergency stop's latch is kept across restarts (safety.state_file), written
+// before the request that changed it is answered.
+class LatchStore {
+ public:
+  virtual ~LatchStore() = default;
+  // False if it could not be written (the adapter logs why); the latch holds in memory.
+  virtual bool save(const SafetyState& state) = 0;
+};
+
 struct ControlPorts {
   const MonotonicClock& clock;
   CommandSink& link;
@@ -71,6 +81,7 @@ struct ControlPorts {
   OneShotTimer& deadman_timer;
   OneShotTimer& offline_timer;
   StallGuard& stall_guard;
+  LatchStore& latch_store;
 };
 
 }  // namespace wheeltec::daemon

@@ -44,6 +44,7 @@ Gateway::Gateway(boost::asio::io_context& io, Options options, GatewayConfig con
       signals_(io, SIGINT, SIGTERM, SIGHUP),
       notifier_(io) {
   events_.deliver_to(api_);
+  supervisor_.restore(control_io_.latch_file().load(std::chrono::system_clock::now()));
 }
 
 void Gateway::start() {
@@ -105,7 +106,11 @@ StatusFields Gateway::status_fields() const {
   fields.control_enabled = supervisor_.enabled();
   fields.owner = supervisor_.owner();
   fields.target = supervisor_.target();
+  fields.sent = command_velocity(supervisor_.sent());
+  fields.limits = config_.control.limits;
+  fields.ramp = config_.control.ramp;
   fields.odometry_scale = config_.odometry.scale;
+  if (const auto& latch = supervisor_.safety()) fields.latch = LatchMark{latch->source, latch->since};
   return fields;
 }
 
@@ -113,7 +118,8 @@ nlohmann::json Gateway::status_json() const {
   const StatusIdentity identity{config_.transport, link_->name(), config_.chassis.type, config_.can.dialect};
   const auto age = supervisor_.telemetry_age(std::chrono::steady_clock::now());
   return status_to_json(identity, status_fields(), uptime_s(),
-                        age ? std::optional<double>(std::chrono::duration<double>(*age).count()) : std::nullopt);
+                        age ? std::optional<double>(std::chrono::duration<double>(*age).count()) : std::nullopt,
+                        supervisor_.safety());
 }
 
 nlohmann::json Gateway::stats_json() const {

@@ -17,6 +17,7 @@
 #include "access_config.hpp"
 #include "gateway.hpp"
 #include "options.hpp"
+#include "safety_state_file.hpp"
 
 namespace {
 
@@ -27,6 +28,9 @@ struct Setup {
 
 Setup load_setup(const wheeltec::daemon::Options& options) {
   wheeltec::GatewayConfig config = wheeltec::daemon::load_config(options);
+  if (config.safety.state_file && !options.check_config) {
+    wheeltec::daemon::SafetyStateFile::check_writable(*config.safety.state_file);
+  }
   wheeltec::daemon::AccessConfig access = wheeltec::daemon::resolve_access(config.api, ::geteuid());
   return Setup{std::move(config), std::move(access)};
 }

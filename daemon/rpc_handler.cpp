@@ -36,7 +36,7 @@ json topics_of(const ClientState& client) {
 
 // The methods whose errors are `refused` events.
 bool is_control_method(std::string_view method) {
-  return method == "drive" || method == "enable" || method == "disable";
+  return method == "drive" || method == "enable" || method == "disable" || method == "release";
 }
 
 }  // namespace
@@ -88,11 +88,13 @@ RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request
   const std::string& method = request.method;
   if (method == "drive") return drive(client, request);
   if (method == "mark") return mark(client, request);
+  if (method == "estop") return estop(client, request);
   if (method == "subscribe") return set_subscriptions(client, request, true);
   if (method == "unsubscribe") return set_subscriptions(client, request, false);
 
   const bool known = method == "version" || method == "status" || method == "telemetry" || method == "stop" ||
-                     method == "enable" || method == "disable" || method == "reset_odometry" || method == "stats";
+                     method == "enable" || method == "disable" || method == "reset_odometry" || method == "stats" ||
+                     method == "release";
   if (!known) return rpc::Error{rpc::kMethodNotFound, fmt::format("unknown method \"{}\"", method), request.id};
   if (auto error = rpc::expect_no_params(request)) return *std::move(error);
 
@@ -110,14 +112,40 @@ RpcHandler::Outcome RpcHandler::dispatch(ClientState& client, const rpc::Request
     return json::object();
   }
   if (auto error = control_permission_error(client, request)) return *std::move(error);
-  if (method == "enable") {
-    control_.enable();
-    events_.publish(client.id, events::Enable{});
-  } else {
-    control_.disable();
-    events_.publish(client.id, events::Disable{});
-  }
+  if (method == "release") return release(client, request);
+  if (method == "enable") return enable(client, request);
+  control_.disable();
+  events_.publish(client.id, events::Disable{});
   return json::object();
+}
+
+RpcHandler::Outcome RpcHandler::enable(const ClientState& client, const rpc::Request& request) {
+  if (control_.enable() == EnableOutcome::estop_latched) return latched_error(request);
+  events_.publish(client.id, events::Enable{});
+  return json::object();
+}
+
+RpcHandler::Outcome RpcHandler::estop(const ClientState& client, const rpc::Request& request) {
+  auto reason = rpc::parse_estop_params(request);
+  if (auto* error = std::get_if<rpc::Error>(&reason)) return std::move(*error);
+  control_.estop(Latch{LatchSource::client, std::string(std::get<std::string_view>(reason)),
+                       std::chrono::system_clock::now(), client.id});
+  return json::object();
+}
+
+RpcHandler::Outcome RpcHandler::release(const ClientState& client, const rpc::Request&) {
+  control_.release(client.id);
+  return json::object();
+}
+
+rpc::Error RpcHandler::latched_error(const rpc::Request& request) const {
+  const SafetyState& safety = control_.safety();
+  std::string message = "emergency stop latched";
+  if (safety) {
+    message += fmt::format(" ({}{}{})", to_string(safety->source), safety->reason.empty() ? "" : ": ", safety->reason);
+  }
+  message += "; release it first";
+  return rpc::Error{rpc::kEmergencyStopLatched, std::move(message), request.id, safety_to_json(safety)};
 }
 
 RpcHandler::Outcome RpcHandler::drive(ClientState& client, const rpc::Request& request) {
@@ -140,6 +168,8 @@ RpcHandler::Outcome RpcHandler::mark(const ClientState& client, const rpc::Reque
 
 rpc::Error RpcHandler::drive_refusal(const DriveDecision& decision, const rpc::Request& request) const {
   switch (*decision.refusal) {
+    case DriveRefusal::estop_latched:
+      return latched_error(request);
     case DriveRefusal::chassis_not_ready: {
       const ChassisPhase phase = decision.phase.value_or(ChassisPhase::halted);
       return rpc::Error{rpc::kChassisNotReady, std::string(not_ready_reason(phase)), request.id,

@@ -39,6 +39,10 @@ class RpcHandler {
   Outcome dispatch(ClientState& client, const rpc::Request& request);
   Outcome drive(ClientState& client, const rpc::Request& request);
   Outcome mark(const ClientState& client, const rpc::Request& request);
+  Outcome estop(const ClientState& client, const rpc::Request& request);
+  Outcome release(const ClientState& client, const rpc::Request& request);
+  Outcome enable(const ClientState& client, const rpc::Request& request);
+  rpc::Error latched_error(const rpc::Request& request) const;
   Outcome set_subscriptions(ClientState& client, const rpc::Request& request, bool wanted);
   std::optional<rpc::Error> control_permission_error(const ClientState& client, const rpc::Request& request) const;
   std::string telemetry_response(const rpc::Request& request) const;

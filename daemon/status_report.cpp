@@ -38,11 +38,12 @@ std::string status_line(const StatusFields& fields, std::uint64_t clients) {
   if (fields.battery_v) line += fmt::format(", battery {:.2f} V", *fields.battery_v);
   line += fmt::format(", {} client{}", clients, clients == 1 ? "" : "s");
   if (fields.control_enabled) line += ", control enabled";
+  if (fields.latch) line += fmt::format(", EMERGENCY STOP ({})", to_string(fields.latch->source));
   return line;
 }
 
 json status_to_json(const StatusIdentity& identity, const StatusFields& fields, double uptime_s,
-                    std::optional<double> telemetry_age_s) {
+                    std::optional<double> telemetry_age_s, const SafetyState& safety) {
   if (telemetry_age_s) telemetry_age_s = round_to(*telemetry_age_s, 1000.0);
   json status{
       {"version", kVersion},
@@ -64,7 +65,12 @@ json status_to_json(const StatusIdentity& identity, const StatusFields& fields, 
       {"control",
        {{"enabled", fields.control_enabled},
         {"owner", optional_json(fields.owner)},
-        {"target", {{"vx", fields.target.vx}, {"vy", fields.target.vy}, {"wz", fields.target.wz}}}}},
+        {"target", {{"vx", fields.target.vx}, {"vy", fields.target.vy}, {"wz", fields.target.wz}}},
+        {"sent", {{"vx", fields.sent.vx}, {"vy", fields.sent.vy}, {"wz", fields.sent.wz}}},
+        {"limits", velocity_limits_to_json(fields.limits)},
+        {"accel", axis_rates_to_json(fields.ramp.accel)},
+        {"decel", axis_rates_to_json(fields.ramp.decel)}}},
+      {"safety", safety_to_json(safety)},
       {"odometry", {{"scale", odometry_scale_to_json(fields.odometry_scale)}}},
   };
   // The dialect is how control frames look on CAN; the serial line has one frame format.

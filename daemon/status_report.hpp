@@ -10,7 +10,10 @@
 
 #include "wheeltec/chassis_phase.hpp"
 #include "wheeltec/control_arbiter.hpp"
+#include "wheeltec/control_frame.hpp"
+#include "wheeltec/emergency_stop.hpp"
 #include "wheeltec/odometry.hpp"
+#include "wheeltec/velocity_ramp.hpp"
 #include "wheeltec/types.hpp"
 
 #include "wheeltec/bus_state.hpp"
@@ -22,6 +25,13 @@ struct DockStatus {
   bool charging = false;
   std::array<bool, 4> ir{};
   friend bool operator==(const DockStatus&, const DockStatus&) = default;
+};
+
+// Which latch holds, enough to tell one from the next (a latch's reason never changes).
+struct LatchMark {
+  LatchSource source = LatchSource::client;
+  RealtimeNanos since{};
+  friend bool operator==(const LatchMark&, const LatchMark&) = default;
 };
 
 // The status fields whose change is announced to status subscribers: everything but
@@ -38,7 +48,11 @@ struct StatusFields {
   bool control_enabled = false;
   std::optional<ClientId> owner;
   Velocity target;
-  OdometryScale odometry_scale;  // changes on SIGHUP
+  Velocity sent;                 // what the last control frame carried
+  VelocityLimits limits;         // these three change on SIGHUP
+  RampLimits ramp;
+  OdometryScale odometry_scale;
+  std::optional<LatchMark> latch;
   friend bool operator==(const StatusFields&, const StatusFields&) = default;
 };
 
@@ -57,6 +71,6 @@ std::string status_line(const StatusFields& fields, std::uint64_t clients);
 
 // The status object of spec section 2.
 nlohmann::json status_to_json(const StatusIdentity& identity, const StatusFields& fields, double uptime_s,
-                              std::optional<double> telemetry_age_s);
+                              std::optional<double> telemetry_age_s, const SafetyState& safety = std::nullopt);
 
 }  // namespace wheeltec::daemon

@@ -341,6 +341,18 @@ int measure(const Settings& s) {
     }
   }
   d["command_latency"] = commands.first.to_json();
+  std::cerr << "bench: wheeltecd: estop -> zero control frame\n";
+  const LatencySummary estop = summarize(bench::estop_latency(daemon.socket, std::max(20, s.commands / 10),
+                                                              [&](int mm_per_s) -> std::optional<double> {
+    while (const auto received = observer.receive(1000)) {
+      const auto& data = received->frame.data;
+      if (received->frame.id != wheeltec::kManualControlId || wheeltec::decode_enable_frame(received->frame)) continue;
+      if (static_cast<std::int16_t>((data[0] << 8) | data[1]) != mm_per_s) continue;
+      return now_us() - static_cast<double>(realtime_ns() - received->time.time_since_epoch().count()) / 1e3;
+    }
+    return std::nullopt;
+  }));
+  d["estop_latency"] = estop.to_json();
   floor["relay_command_latency"] = commands.second.to_json();
   const LatencySummary command = summarize(commands.first.total), relay_command = summarize(commands.second.total);
 
@@ -378,6 +390,8 @@ int measure(const Settings& s) {
             verdict(command.p99_us <= 2 * bus.p99_us)});
   t += row({"command: request -> frame on the bus (daemon's part) p50 / p99 (us)", p50_p99(d["command_latency"]["to_frame"]),
             "relay " + p50_p99(floor["relay_command_latency"]["to_frame"]), "", "", ""});
+  t += row({fmt::format("estop -> zero frame on the bus p50 / p99 (us), n={}", estop.count), p50_p99(d["estop_latency"]),
+            "", "", "", ""});
   for (const auto& [n, mine_l, relay_l] : {std::tuple{1, &mine.tel1.all, &relay.tel1.all}, {64, &mine.tel64.all, &relay.tel64.all}}) {
     const std::string who = n == 1 ? "1 subscriber" : "64 subscribers";
     t += row({"telemetry latency p50, " + who + " (us)", us(mine_l->p50_us), "relay " + us(relay_l->p50_us),

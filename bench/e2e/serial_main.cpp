@@ -89,6 +89,11 @@ int run(const Options& s) {
   measuring = false;
   reader.join();
   out["wheeltecd"]["command_latency_events_subscriber"] = with_events.to_json();
+  std::cerr << "bench: wheeltecd on " << line.slave_path() << ": estop -> zero command frame\n";
+  line.drain();
+  const LatencySummary estop =
+      summarize(estop_latency(socket, std::max(20, s.commands / 10), [&](int mm_per_s) { return line.await_command(mm_per_s, 1000); }));
+  out["wheeltecd"]["estop_latency"] = estop.to_json();
   std::cerr << "bench: wheeltecd on " << line.slave_path() << ": record -> notification\n";
   const TelemetryLatency telemetry = telemetry_latency(socket, 1, s.records, [&](int n) {
     const wheeltec::RecordBytes bytes = wheeltec::encode_record(bench_record(n));
@@ -106,6 +111,7 @@ int run(const Options& s) {
   t += fmt::format("| drive -> command frame read on the master, n={} | {} | 11 bytes slave -> master: {} |\n", command.count,
                    pair(command), pair(floor_out));
   t += fmt::format("| the same, a client subscribed to events, n={} | {} | |\n", with_events.count, pair(with_events));
+  t += fmt::format("| estop -> zero command frame read on the master, n={} | {} | |\n", estop.count, pair(estop));
   t += fmt::format("| record's last byte -> notification, 1 subscriber, n={} (lost {}) | {} | 24 bytes master -> slave: {} |\n",
                    telemetry.all.count, telemetry.lost, pair(telemetry.all), pair(floor_in));
   return publish_table(t, out, s.json_path);

@@ -688,6 +688,31 @@ CommandLatency command_latency(const std::filesystem::path& socket, int commands
   client.read_line(1000);
   return result;
 }
+std::vector<double> estop_latency(const std::filesystem::path& socket, int rounds,
+                                  const std::function<std::optional<double>(int mm_per_s)>& await_frame) {
+  LineClient driver(socket);
+  LineClient operator_(socket);
+  const auto expect_result = [](const std::string& reply, const char* what) {
+    if (reply.find("\"result\"") == std::string::npos) throw std::runtime_error(std::string(what) + " failed: " + reply);
+  };
+  std::vector<double> samples;
+  for (int i = 0; i < rounds; ++i) {
+    const int mm_per_s = 150 + i % 50;
+    driver.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{}}}}})", i + 1,
+                                 mm_per_s / 1000.0));
+    if (!await_frame(mm_per_s)) throw std::runtime_error("estop round " + std::to_string(i + 1) + ": no drive frame");
+    expect_result(driver.read_line(1000), "drive");
+    const double start = now_us();
+    operator_.send_line(R"({"jsonrpc":"2.0","id":1,"method":"estop","params":{"reason":"bench"}})");
+    const std::optional<double> zero_us = await_frame(0);
+    if (!zero_us) throw std::runtime_error("estop round " + std::to_string(i + 1) + ": no zero frame within 1 s");
+    samples.push_back(*zero_us - start);
+    expect_result(operator_.read_line(1000), "estop");
+    operator_.send_line(R"({"jsonrpc":"2.0","id":2,"method":"release"})");
+    expect_result(operator_.read_line(1000), "release");
+  }
+  return samples;
+}
 json TelemetryLatency::to_json() const {
   json j = all.to_json();
   j["lost"] = lost;

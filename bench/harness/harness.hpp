@@ -252,6 +252,10 @@ struct CommandLatency {
 // Drives to alternating targets (base, base + 100 mm/s), then a stop; `await_frame`: when the frame came.
 CommandLatency command_latency(const std::filesystem::path& socket, int commands, int base_mm_per_s,
                                const std::function<std::optional<double>(int mm_per_s)>& await_frame);
+// `rounds` times: a drive (its frame awaited), then `estop` from another connection timed to
+// the first zero frame (await_frame(0)), then `release`: the emergency stop's latency (us).
+std::vector<double> estop_latency(const std::filesystem::path& socket, int rounds,
+                                  const std::function<std::optional<double>(int mm_per_s)>& await_frame);
 struct TelemetryLatency {
   LatencySummary all;  // one sample per subscriber and record
   std::size_t lost = 0;

@@ -1,5 +1,7 @@
 #include "wheeltec/client/records.hpp"
 
+#include <type_traits>
+
 namespace wheeltec::client {
 namespace {
 
@@ -55,6 +57,22 @@ Status status_from_json(const Json& status) {
   out.control_enabled = control.at("enabled").get<bool>();
   if (const Json& owner = control.at("owner"); !owner.is_null()) out.owner = owner.get<std::uint64_t>();
   out.target = velocity_from_json(control.at("target"));
+  if (const auto sent = control.find("sent"); sent != control.end()) out.sent = velocity_from_json(*sent);
+  if (const auto safety = status.find("safety"); safety != status.end()) {
+    Safety typed;
+    typed.latched = safety->at("latched").get<bool>();
+    const auto optional_member = [&](const char* key, auto& target) {
+      using Value = typename std::remove_reference_t<decltype(target)>::value_type;
+      if (const auto member = safety->find(key); member != safety->end() && !member->is_null()) {
+        target = member->get<Value>();
+      }
+    };
+    optional_member("source", typed.source);
+    optional_member("reason", typed.reason);
+    optional_member("since", typed.since);
+    optional_member("by", typed.by);
+    out.safety = std::move(typed);
+  }
   out.json = status;
   return out;
 }

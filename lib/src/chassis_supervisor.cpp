@@ -18,33 +18,78 @@ bool ChassisSupervisor::update_command() {
   return changed;
 }
 
+void ChassisSupervisor::zero() {
+  arbiter_.stop();
+  update_command();
+  ramp_from_ = Velocity{};
+  ramp_from_time_.reset();
+}
+
 bool ChassisSupervisor::start() {
   if (mode_ != ControlMode::not_started) return false;
   mode_ = ControlMode::awaiting_first_zero;
   return true;
 }
 
-void ChassisSupervisor::first_zero_sent() {
-  if (mode_ == ControlMode::awaiting_first_zero) mode_ = ControlMode::disabled;
-}
-
-bool ChassisSupervisor::enable() {
-  if (mode_ != ControlMode::disabled && mode_ != ControlMode::awaiting_first_zero) return false;
+EnableOutcome ChassisSupervisor::enable() {
+  if (safety_) return EnableOutcome::estop_latched;
+  if (mode_ == ControlMode::enabled) return EnableOutcome::already_enabled;
+  if (mode_ != ControlMode::disabled && mode_ != ControlMode::awaiting_first_zero) return EnableOutcome::unavailable;
   mode_ = ControlMode::enabled;
-  return true;
+  return EnableOutcome::enabled;
 }
 
 bool ChassisSupervisor::disable() {
-  arbiter_.stop();
-  update_command();
+  zero();
   if (mode_ != ControlMode::enabled) return false;
   mode_ = ControlMode::disabled;
   return true;
 }
 
-void ChassisSupervisor::stop() {
-  arbiter_.stop();
-  update_command();
+void ChassisSupervisor::stop() { zero(); }
+
+bool ChassisSupervisor::estop(const Latch& latch) {
+  if (safety_) return false;
+  safety_ = latch;
+  zero();
+  return true;
+}
+
+bool ChassisSupervisor::release() {
+  if (!safety_) return false;
+  safety_.reset();
+  return true;
+}
+
+ControlCommand ChassisSupervisor::frame(MonotonicNanos now) const {
+  if (!settings_.ramp.any() || !ramp_from_time_) {
+    // No limits, or a stop or the link's return just reset the ramp: a stop's zero goes out
+    // as it is, and a target set since then starts from zero.
+    if (!settings_.ramp.any()) return command_;
+    ControlCommand zero_frame;
+    zero_frame.clamped = command_.clamped;
+    return zero_frame;
+  }
+  const Velocity next = ramp_toward(ramp_from_, command_velocity(command_), settings_.ramp, now - *ramp_from_time_);
+  ControlCommand frame = quantize_command(next, settings_.limits);
+  frame.clamped = command_.clamped;
+  return frame;
+}
+
+void ChassisSupervisor::frame_sent(const ControlCommand& frame, MonotonicNanos now) {
+  if (mode_ == ControlMode::awaiting_first_zero) mode_ = ControlMode::disabled;
+  sent_ = frame;
+  ramp_from_ = command_velocity(frame);
+  ramp_from_time_ = now;
+}
+
+void ChassisSupervisor::link_changed(LinkState state, MonotonicNanos now) {
+  if (state == LinkState::up && link_ == LinkState::down) {
+    // What the chassis does after the link's return is not known: the ramp starts at zero, now.
+    ramp_from_ = Velocity{};
+    ramp_from_time_ = now;
+  }
+  link_ = state;
 }
 
 std::optional<ControlLapse> ChassisSupervisor::lapse() const {
@@ -55,25 +100,28 @@ std::optional<ControlLapse> ChassisSupervisor::lapse() const {
 std::optional<ControlLapse> ChassisSupervisor::client_gone(ClientId client) {
   const auto lapsed = lapse();
   if (!arbiter_.release(client)) return std::nullopt;
-  update_command();
+  zero();
   return lapsed;
 }
 
 std::optional<ControlLapse> ChassisSupervisor::expire_deadman(MonotonicNanos now) {
   const auto lapsed = lapse();
   if (!arbiter_.expire(now)) return std::nullopt;
-  update_command();
+  zero();
   return lapsed;
 }
 
 void ChassisSupervisor::shut_down() {
-  arbiter_.stop();
-  update_command();
+  zero();
   mode_ = ControlMode::shut_down;
 }
 
 DriveDecision ChassisSupervisor::drive(ClientId client, const Velocity& target, MonotonicNanos now) {
   DriveDecision decision;
+  if (safety_) {
+    decision.refusal = DriveRefusal::estop_latched;
+    return decision;
+  }
   if (const auto current = phase(); current && !obeys_commands(*current)) {
     decision.refusal = DriveRefusal::chassis_not_ready;
     decision.phase = current;

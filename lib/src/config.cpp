@@ -1,6 +1,7 @@
 #include "wheeltec/config.hpp"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -107,6 +108,19 @@ void check_half_open(double value, double lo, double hi, std::string_view path) 
   if (!(value > lo && value <= hi)) fail(path, fmt::format("must be in ({}, {}], got {}", lo, hi, value));
 }
 
+void check_rates(const AxisRates& rates, std::string_view key) {
+  const auto check = [key](const std::optional<double>& rate, std::string_view axis) {
+    if (rate && !(*rate > 0 && std::isfinite(*rate))) {
+      fail(fmt::format("{}.{}", key, axis), fmt::format("must be a number > 0 or null, got {}", *rate));
+    }
+  };
+  check(rates.vx, "vx");
+  check(rates.vy, "vy");
+  check(rates.wz, "wz");
+}
+
+json optional_json(const std::optional<double>& value) { return value ? json(*value) : json(nullptr); }
+
 }  // namespace
 
 ConfigError::ConfigError(std::string key, std::string_view problem)
@@ -153,6 +167,10 @@ void apply_config(const json& document, GatewayConfig& config) {
       boolean("disable_on_exit", c.control.disable_on_exit),
       object("limits", {number("vx", c.control.limits.vx), number("vy", c.control.limits.vy),
                         number("wz", c.control.limits.wz)}),
+      object("accel", {optional_number("vx", c.control.ramp.accel.vx), optional_number("vy", c.control.ramp.accel.vy),
+                       optional_number("wz", c.control.ramp.accel.wz)}),
+      object("decel", {optional_number("vx", c.control.ramp.decel.vx), optional_number("vy", c.control.ramp.decel.vy),
+                       optional_number("wz", c.control.ramp.decel.wz)}),
     }),
     object("telemetry", {number("timeout_s", c.telemetry.timeout_s),
                          number("low_battery_v", c.telemetry.low_battery_v)}),
@@ -162,6 +180,7 @@ void apply_config(const json& document, GatewayConfig& config) {
       number("yaw_positive", c.odometry.scale.yaw_positive),
       number("yaw_negative", c.odometry.scale.yaw_negative),
     })}),
+    object("safety", {optional_text("state_file", c.safety.state_file)}),
     object("api", {
       text("socket", c.api.socket),
       mode("mode", c.api.mode),
@@ -200,6 +219,16 @@ void validate_config(const GatewayConfig& c) {
   check_half_open(c.control.limits.vx, 0, 32.767, "control.limits.vx");
   check_half_open(c.control.limits.vy, 0, 32.767, "control.limits.vy");
   check_half_open(c.control.limits.wz, 0, 32.767, "control.limits.wz");
+  check_rates(c.control.ramp.accel, "control.accel");
+  check_rates(c.control.ramp.decel, "control.decel");
+
+  if (c.safety.state_file) {
+    const std::string& path = *c.safety.state_file;
+    if (path.empty() || path.front() != '/') {
+      fail("safety.state_file", fmt::format("must be an absolute path or null, got \"{}\"", path));
+    }
+    if (path.back() == '/') fail("safety.state_file", fmt::format("must name a file, got the directory \"{}\"", path));
+  }
 
   check_half_open(c.telemetry.timeout_s, 0, 60, "telemetry.timeout_s");
   check_closed(c.telemetry.low_battery_v, 0, 100, "telemetry.low_battery_v");
@@ -226,6 +255,14 @@ void validate_config(const GatewayConfig& c) {
   config_checks::check_log_level(c.log.level);
 }
 
+json axis_rates_to_json(const AxisRates& rates) {
+  return json{{"vx", optional_json(rates.vx)}, {"vy", optional_json(rates.vy)}, {"wz", optional_json(rates.wz)}};
+}
+
+json velocity_limits_to_json(const VelocityLimits& limits) {
+  return json{{"vx", limits.vx}, {"vy", limits.vy}, {"wz", limits.wz}};
+}
+
 json odometry_scale_to_json(const OdometryScale& scale) {
   return json{{"x", scale.x}, {"y", scale.y}, {"yaw_positive", scale.yaw_positive}, {"yaw_negative", scale.yaw_negative}};
 }
@@ -246,9 +283,12 @@ json config_to_json(const GatewayConfig& c) {
         {"auto_enable", c.control.auto_enable},
         {"enable_refresh_s", c.control.enable_refresh_s},
         {"disable_on_exit", c.control.disable_on_exit},
-        {"limits", {{"vx", c.control.limits.vx}, {"vy", c.control.limits.vy}, {"wz", c.control.limits.wz}}}}},
+        {"limits", velocity_limits_to_json(c.control.limits)},
+        {"accel", axis_rates_to_json(c.control.ramp.accel)},
+        {"decel", axis_rates_to_json(c.control.ramp.decel)}}},
       {"telemetry", {{"timeout_s", c.telemetry.timeout_s}, {"low_battery_v", c.telemetry.low_battery_v}}},
       {"odometry", {{"scale", odometry_scale_to_json(c.odometry.scale)}}},
+      {"safety", {{"state_file", c.safety.state_file ? json(*c.safety.state_file) : json(nullptr)}}},
       {"api",
        {{"socket", c.api.socket},
         {"mode", fmt::format("{:04o}", c.api.mode)},

@@ -82,6 +82,16 @@ Field text(std::string_view key, std::string& target) {
   return {key, [&target](const json& value, const std::string& path) { target = read_text(value, path); }};
 }
 
+Field optional_number(std::string_view key, std::optional<double>& target) {
+  return {key, [&target](const json& value, const std::string& path) {
+            if (value.is_null()) {
+              target.reset();
+            } else {
+              target = read_number(value, path);
+            }
+          }};
+}
+
 Field optional_text(std::string_view key, std::optional<std::string>& target) {
   return {key, [&target](const json& value, const std::string& path) {
             if (value.is_null()) {

@@ -110,6 +110,8 @@ constexpr std::string_view name_of(const events::Enable&) { return "enable"; }
 constexpr std::string_view name_of(const events::Disable&) { return "disable"; }
 constexpr std::string_view name_of(const events::Mark&) { return "mark"; }
 constexpr std::string_view name_of(const events::Reload&) { return "reload"; }
+constexpr std::string_view name_of(const events::Estop&) { return "estop"; }
+constexpr std::string_view name_of(const events::Release&) { return "release"; }
 
 // Each kind's own members, after "client"; the kinds without any have none.
 template <class Kind>
@@ -156,6 +158,13 @@ void append_members(std::string& out, const events::Deadman& event) {
 void append_members(std::string& out, const events::Mark& event) {
   out += ",\"text\":";
   append_string(out, event.text);
+}
+
+void append_members(std::string& out, const events::Estop& event) {
+  out += ",\"source\":";
+  append_string(out, to_string(event.source));
+  out += ",\"reason\":";
+  append_string(out, event.reason);
 }
 
 void append_members(std::string& out, const events::Reload& event) {

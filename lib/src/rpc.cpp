@@ -20,6 +20,13 @@
 namespace wheeltec::rpc {
 namespace {
 
+// Unicode code points: the parser took only valid UTF-8, so every byte but a continuation
+// byte starts a character.
+std::size_t character_count(const std::string& value) {
+  return static_cast<std::size_t>(
+      std::count_if(value.begin(), value.end(), [](char byte) { return (static_cast<unsigned char>(byte) & 0xC0) != 0x80; }));
+}
+
 using json = nlohmann::json;
 
 // nlohmann's parser is iterative, but copying, comparing and dumping a document recurse;
@@ -259,6 +266,27 @@ std::variant<std::vector<std::string>, Error> parse_topics(const Request& reques
   return names;
 }
 
+std::variant<std::string_view, Error> parse_estop_params(const Request& request) {
+  const json& params = request.params;
+  const bool empty = params.is_null() || (params.is_array() && params.empty()) || (params.is_object() && params.empty());
+  if (empty) return std::string_view();
+  if (!params.is_object()) return invalid_params(request, "params must be an object {\"reason\": \"...\"}");
+  for (const auto& [key, value] : params.items()) {
+    if (key != "reason") return invalid_params(request, fmt::format("unknown param \"{}\"", key));
+  }
+  const json& reason = params.at("reason");
+  if (!reason.is_string()) {
+    return invalid_params(request, fmt::format("reason must be a string, got {}", reason.type_name()));
+  }
+  const std::string& value = reason.get_ref<const std::string&>();
+  const std::size_t characters = character_count(value);
+  if (characters > kMaxEstopReasonCharacters) {
+    return invalid_params(request, fmt::format("reason has {} characters, more than the {} it may have", characters,
+                                               kMaxEstopReasonCharacters));
+  }
+  return std::string_view(value);
+}
+
 std::variant<std::string_view, Error> parse_mark_params(const Request& request) {
   const json& params = request.params;
   if (!params.is_object()) return invalid_params(request, "params must be an object {\"text\": \"...\"}");
@@ -269,9 +297,7 @@ std::variant<std::string_view, Error> parse_mark_params(const Request& request) 
   if (text == params.end()) return invalid_params(request, "missing param \"text\"");
   if (!text->is_string()) return invalid_params(request, fmt::format("text must be a string, got {}", text->type_name()));
   const std::string& value = text->get_ref<const std::string&>();
-  // The parser took only valid UTF-8: every byte but a continuation byte starts a character.
-  const auto characters = static_cast<std::size_t>(
-      std::count_if(value.begin(), value.end(), [](char byte) { return (static_cast<unsigned char>(byte) & 0xC0) != 0x80; }));
+  const std::size_t characters = character_count(value);
   if (characters > kMaxMarkCharacters) {
     return invalid_params(request, fmt::format("text has {} characters, more than the {} a mark may have", characters,
                                                kMaxMarkCharacters));

@@ -47,6 +47,10 @@ expect_file usr/share/man/man1/wheeltec-emu.1.gz -rw-r--r--
 expect_file usr/share/doc/wheeltec-gateway/copyright -rw-r--r--
 expect_file usr/share/doc/wheeltec-gateway/changelog.gz -rw-r--r--
 expect_file usr/share/doc/wheeltec-gateway/deploy.md -rw-r--r--
+for file in __init__.py aio.py client.py connection.py errors.py protocol.py records.py py.typed; do
+  expect_file "usr/lib/python3/dist-packages/wheeltec/$file" -rw-r--r--
+done
+expect_file usr/share/doc/wheeltec-gateway/python.md -rw-r--r--
 if grep -q 'etc/systemd/system' <<<"$contents"; then fail "the package ships an enablement symlink"; fi
 
 work=$(mktemp -d)
@@ -62,6 +66,7 @@ dpkg-deb --fsys-tarfile "$deb" | tar -xO ./etc/wheeltecd/wheeltecd.json >"$work/
 grep -q '^Depends:.*adduser' "$work/control/control" || fail "Depends lacks adduser"
 grep -q '^Depends:.*libjs-dygraphs' "$work/control/control" || fail "Depends lacks libjs-dygraphs (wheeltec-web's plots)"
 grep -q '^Depends:.*libddsc0debian' "$work/control/control" || fail "Depends lacks libddsc0debian (wheeltec-ros2's Cyclone DDS)"
+grep -Eq '^Depends:.*python3(,|$)' "$work/control/control" || fail "Depends lacks python3 (the Python client)"
 grep -q 'adduser --system' "$work/control/postinst" || fail "postinst does not create the system user"
 if grep -v '^[[:space:]]*#' "$work/control/postinst" | grep -Eq 'systemctl (--[a-z-]+ )*enable|deb-systemd-helper enable'; then
   fail "postinst enables the service"
@@ -80,6 +85,13 @@ grep -q 'udevadm trigger --action=change' "$work/control/postinst" || fail "post
 grep -q -- '-S /run/udev/control' "$work/control/postinst" || fail "postinst runs udevadm without checking that udev runs"
 
 dpkg-deb -x "$deb" "$work/root"
+
+# The Python client as installed: the system's python3 imports it from the package's files.
+PYTHONPATH=$work/root/usr/lib/python3/dist-packages /usr/bin/python3 -c '
+import sys, wheeltec
+assert wheeltec.__file__.startswith(sys.argv[1]), wheeltec.__file__
+assert wheeltec.aio.Client and wheeltec.Client and wheeltec.EmergencyStopLatched.CODE == -32007
+' "$work/root/" || fail "python3 cannot import wheeltec from the package"
 
 # The udev rule, as shipped, under Debian's udevadm: `udevadm test` on a made-up sysfs, in a
 # mount namespace of its own (tmpfs over /sys, /run and /dev, so nothing on this machine

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Test stage: the benchmarks still build and run. Each microbenchmark runs for a few
-# milliseconds and must not report an error, the serial-link benchmark runs once in its quick
-# mode (natively, on a pseudo-terminal), and the wheeltec-mqtt, wheeltec-ros2 and wheeltec-web
+# milliseconds and must not report an error, the serial-link benchmark and the Python client's
+# run once in their quick modes (natively, on pseudo-terminals), and the wheeltec-mqtt, wheeltec-ros2 and wheeltec-web
 # benchmarks run once in their quick modes (inside scripts/vcan-run; wheeltec-mqtt's also once
 # natively on a pseudo-terminal); each must report its
 # figures. Nothing is timed or compared here (the figures come from scripts/bench.sh,
@@ -114,16 +114,31 @@ finally:
 PY
 
 # The serial-link benchmark's quick mode (a few seconds, natively on a pseudo-terminal): both
-# latencies must have samples.
+# latencies and the emergency stop's must have samples.
 "$BUILD_DIR/bench/wheeltec-bench-serial" --quick --wheeltecd "$BUILD_DIR/daemon/wheeltecd" --json "$serial" >/dev/null
 python3 - "$serial" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))["wheeltecd"]
 drives, records = d["command_latency"]["count"], d["telemetry_latency_1"]["count"]
-if not (drives and records):
-    sys.exit(f"bench smoke: the serial benchmark timed {drives} drives and {records} records")
-print(f"bench smoke: serial benchmark ran ({drives} drives and {records} records timed, "
+estops = d["estop_latency"]["count"]
+if not (drives and records and estops):
+    sys.exit(f"bench smoke: the serial benchmark timed {drives} drives, {records} records and {estops} estops")
+print(f"bench smoke: serial benchmark ran ({drives} drives, {estops} estops and {records} records timed, "
       f"{d['telemetry_latency_1']['lost']} records lost)")
+PY
+
+# The Python client's benchmark, quick mode (a few seconds, natively on pseudo-terminals):
+# status() round trips on a bare socket and through the package, and a subscription's records.
+/usr/bin/python3 "$REPO_ROOT/bench/python/python_bench.py" --quick --wheeltecd "$BUILD_DIR/daemon/wheeltecd" \
+  --emu "$BUILD_DIR/emulator/wheeltec-emu" --json "$work/python.json" >/dev/null
+python3 - "$work/python.json" <<'PY'
+import json, sys
+p = json.load(open(sys.argv[1]))
+rt, sub, top = p["status_round_trip"], p["subscription_1000hz"], p["subscription_ceiling"]
+if not (rt["package"]["median_us"] > 0 and sub["records"] and top["records"]):
+    sys.exit(f"bench smoke: the Python benchmark has no figures: {p}")
+print(f"bench smoke: Python benchmark ran (status() {rt['ratio_median']:.2f}x the bare call, "
+      f"{sub['records_per_s']:.0f} records/s through wheeltecd)")
 PY
 
 # The wheeltec-mqtt benchmark's quick mode (about 30 s): one robot's latencies and CPU per

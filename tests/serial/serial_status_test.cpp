@@ -1,5 +1,5 @@
 // How the serial link shows in the API and on the command line (spec section 8): status.bus,
-// the protocol (4: events), the config keys, the usage error.
+// the protocol (5: the emergency stop), the config keys, the usage error.
 
 #include <gtest/gtest.h>
 
@@ -21,7 +21,7 @@ TEST_F(SerialStatus, BusIsTransportSerialWithTheLinkAsConfiguredAndProtocol4) {
       << "the symlink's path as configured, not " << fake_->slave_name() << ": " << status.dump();
   EXPECT_FALSE(status["chassis"].contains("dialect")) << "the serial line has no dialect: " << status.dump();
   const Json version = client.call("version");
-  EXPECT_EQ(version["protocol"], 4) << version.dump();
+  EXPECT_EQ(version["protocol"], 5) << version.dump();
   ASSERT_TRUE(wait_for_status(client, [](const Json& s) { return s["chassis"]["online"] == true; }, 2s)) << logs();
   const Json record = client.call("telemetry");
   EXPECT_NEAR(record["battery"]["voltage"].get<double>(), 22.5, 1e-9) << record.dump();

@@ -17,9 +17,9 @@ const RealtimeNanos kEpoch{std::chrono::seconds(1763800000)};
 class ChassisSupervisorTest : public ::testing::Test {
  protected:
   ChassisSupervisorTest() : supervisor_(SupervisorSettings{}) {
-    supervisor_.link_changed(LinkState::up);
+    supervisor_.link_changed(LinkState::up, kStart);
     supervisor_.start();
-    supervisor_.first_zero_sent();
+    supervisor_.frame_sent(ControlCommand{}, kStart);
     supervisor_.enable();
   }
 
@@ -37,14 +37,14 @@ TEST(ChassisSupervisorModes, StartAwaitsTheFirstZeroThenEnables) {
   EXPECT_TRUE(supervisor.start());
   EXPECT_FALSE(supervisor.start()) << "once";
   EXPECT_EQ(supervisor.mode(), ControlMode::awaiting_first_zero);
-  supervisor.first_zero_sent();
+  supervisor.frame_sent(ControlCommand{}, kStart);
   EXPECT_EQ(supervisor.mode(), ControlMode::disabled);
-  EXPECT_TRUE(supervisor.enable());
-  EXPECT_FALSE(supervisor.enable()) << "already enabled";
+  EXPECT_EQ(supervisor.enable(), EnableOutcome::enabled);
+  EXPECT_EQ(supervisor.enable(), EnableOutcome::already_enabled);
   EXPECT_TRUE(supervisor.disable());
   EXPECT_FALSE(supervisor.disable());
   supervisor.shut_down();
-  EXPECT_FALSE(supervisor.enable()) << "nothing after shutdown";
+  EXPECT_EQ(supervisor.enable(), EnableOutcome::unavailable) << "nothing after shutdown";
 }
 
 TEST_F(ChassisSupervisorTest, DriveIsQuantizedClampedAndOwned) {
@@ -107,7 +107,7 @@ TEST_F(ChassisSupervisorTest, ALapseNamesTheOwnerItsLastDriveAndWhetherItMoved) 
 
 TEST_F(ChassisSupervisorTest, RefusalsComeInTheContractsOrder) {
   record(0ms, true);  // flag_stop after a silence: booting
-  supervisor_.link_changed(LinkState::down);
+  supervisor_.link_changed(LinkState::down, kStart);
   supervisor_.disable();
   DriveDecision decision = supervisor_.drive(kAlice, kForward, kStart);
   EXPECT_EQ(decision.refusal, DriveRefusal::chassis_not_ready);
@@ -115,7 +115,7 @@ TEST_F(ChassisSupervisorTest, RefusalsComeInTheContractsOrder) {
 
   supervisor_.expire_online(kStart + 1s);  // offline: no phase
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, DriveRefusal::link_down);
-  supervisor_.link_changed(LinkState::up);
+  supervisor_.link_changed(LinkState::up, kStart);
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, DriveRefusal::control_disabled);
   supervisor_.enable();
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, std::nullopt);

@@ -29,7 +29,7 @@ Json spec_record() {
 }
 
 TEST(CliHumanFormat, StatusBlockShowsEveryPart) {
-  EXPECT_EQ(format_status(spec_status()),
+  EXPECT_EQ(format_status(spec_status(), 0.0),
             "daemon:   wheeltecd 0.1.0, up 12.3 s\n"
             "bus:      can0 up\n"
             "chassis:  mecanum, dialect manual, online (telemetry 0.02 s ago), ready, motors enabled\n"
@@ -42,7 +42,7 @@ TEST(CliHumanFormat, StatusBlockShowsEveryPart) {
 TEST(CliHumanFormat, StatusShowsTheOdometryScaleWhenTheDaemonReportsIt) {
   Json status = spec_status();
   status["odometry"] = Json::parse(R"({"scale": {"x": 0.973, "y": 1.0, "yaw_positive": 1.05, "yaw_negative": 0.98}})");
-  const std::string text = format_status(status);
+  const std::string text = format_status(status, 0.0);
   EXPECT_NE(text.find("odometry: scale x 0.973 y 1.000 yaw_positive 1.050 yaw_negative 0.980\n"), std::string::npos)
       << text;
 }
@@ -56,7 +56,7 @@ TEST(CliHumanFormat, StatusOfOfflineChassisWithoutBatteryAndNoOwner) {
   status["control"]["owner"] = nullptr;
   status["control"]["enabled"] = false;
   status["chassis"]["phase"] = nullptr;
-  const std::string text = format_status(status);
+  const std::string text = format_status(status, 0.0);
   EXPECT_NE(text.find("bus:      can0 down\n"), std::string::npos) << text;
   EXPECT_NE(text.find("mecanum, dialect manual, offline, motors enabled\n"), std::string::npos)
       << text;
@@ -67,10 +67,10 @@ TEST(CliHumanFormat, StatusOfOfflineChassisWithoutBatteryAndNoOwner) {
 TEST(CliHumanFormat, StatusNamesTheSerialLink) {
   Json status = spec_status();
   status["bus"] = Json{{"transport", "serial"}, {"interface", "/dev/wheeltec_controller"}, {"state", "up"}};
-  EXPECT_NE(format_status(status).find("bus:      serial /dev/wheeltec_controller up\n"), std::string::npos);
+  EXPECT_NE(format_status(status, 0.0).find("bus:      serial /dev/wheeltec_controller up\n"), std::string::npos);
   status["bus"]["transport"] = "can";
   status["bus"]["interface"] = "can0";
-  EXPECT_NE(format_status(status).find("bus:      can0 up\n"), std::string::npos);
+  EXPECT_NE(format_status(status, 0.0).find("bus:      can0 up\n"), std::string::npos);
 }
 
 TEST(CliHumanFormat, AChassisOnTheSerialLinkHasNoDialect) {
@@ -78,7 +78,7 @@ TEST(CliHumanFormat, AChassisOnTheSerialLinkHasNoDialect) {
   status["bus"] = Json{{"transport", "serial"}, {"interface", "/dev/wheeltec_controller"}, {"state", "up"}};
   status["chassis"].erase("dialect");
   status["chassis"]["commands_ignored"] = true;
-  const std::string text = format_status(status);
+  const std::string text = format_status(status, 0.0);
   EXPECT_NE(text.find("chassis:  mecanum, online (telemetry 0.02 s ago), ready, motors enabled, COMMANDS IGNORED\n"),
             std::string::npos)
       << text;
@@ -88,7 +88,7 @@ TEST(CliHumanFormat, StatusMarksLowBatteryAndStoppedMotors) {
   Json status = spec_status();
   status["chassis"]["battery_low"] = true;
   status["chassis"]["stopped"] = true;
-  const std::string text = format_status(status);
+  const std::string text = format_status(status, 0.0);
   EXPECT_NE(text.find("battery:  22.58 V (LOW)\n"), std::string::npos) << text;
   EXPECT_NE(text.find("motors stopped"), std::string::npos) << text;
 }
@@ -98,22 +98,22 @@ TEST(CliHumanFormat, StatusShowsPhaseIgnoredCommandsAndDock) {
   status["chassis"]["phase"] = "self-test";
   status["chassis"]["commands_ignored"] = true;
   status["dock"] = Json::parse(R"({"present": true, "charging": true, "ir": [false, true, true, false]})");
-  const std::string text = format_status(status);
+  const std::string text = format_status(status, 0.0);
   EXPECT_NE(text.find("online (telemetry 0.02 s ago), self-test, motors enabled, COMMANDS IGNORED (check can.dialect)\n"),
             std::string::npos) << text;
   EXPECT_NE(text.find("dock:     charging, IR receivers 0110\n"), std::string::npos) << text;
   status["dock"]["charging"] = false;
-  EXPECT_NE(format_status(status).find("dock:     present, not charging, IR receivers 0110\n"), std::string::npos);
+  EXPECT_NE(format_status(status, 0.0).find("dock:     present, not charging, IR receivers 0110\n"), std::string::npos);
   status.erase("dock");
-  EXPECT_EQ(format_status(status).find("dock:"), std::string::npos) << "a protocol 1 daemon reports no dock";
+  EXPECT_EQ(format_status(status, 0.0).find("dock:"), std::string::npos) << "a protocol 1 daemon reports no dock";
 }
 
 TEST(CliHumanFormat, StatusSurvivesMissingAndMistypedFields) {
-  const std::string text = format_status(Json::parse(R"({"bus": 5, "control": {"target": "x"}})"));
+  const std::string text = format_status(Json::parse(R"({"bus": 5, "control": {"target": "x"}})"), 0.0);
   EXPECT_NE(text.find("daemon:   wheeltecd ?, up ?\n"), std::string::npos) << text;
   EXPECT_NE(text.find("bus:      ? ?\n"), std::string::npos) << text;
   EXPECT_NE(text.find("target:   vx=? vy=? wz=?\n"), std::string::npos) << text;
-  EXPECT_FALSE(format_status(Json::array()).empty());
+  EXPECT_FALSE(format_status(Json::array(), 0.0).empty());
 }
 
 TEST(CliHumanFormat, TelemetryLine) {
@@ -217,6 +217,34 @@ TEST(CliHumanFormat, DriveStartedNotesClamping) {
   EXPECT_EQ(format_drive_started(result, {2.0, 0.0, -5.0}, 1.0),
             "driving vx=1.000 vy=0.000 wz=-3.000 for 1.0 s (clamped to the daemon's limits; "
             "requested vx=2.000 vy=0.000 wz=-5.000)");
+}
+
+}  // namespace
+}  // namespace wheeltecctl
+
+namespace wheeltecctl {
+namespace {
+
+TEST(CliHumanFormat, StatusShowsTheSafetyLine) {
+  Json status = spec_status();
+  status["safety"] = Json::parse(R"({"latched": false, "source": null, "reason": null, "since": null, "by": null})");
+  EXPECT_NE(format_status(status, 0.0).find("safety:   not latched\n"), std::string::npos) << format_status(status, 0.0);
+  status["safety"] = Json::parse(
+      R"({"latched": true, "source": "client", "reason": "operator pressed E-STOP", "since": 1764600000.12, "by": 3})");
+  const std::string text = format_status(status, 1764600012.5);
+  EXPECT_NE(text.find("safety:   EMERGENCY STOP latched (client) by client 3: \"operator pressed E-STOP\", 12 s ago"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(format_status(spec_status(), 0.0).find("safety:"), std::string::npos) << "no line from a protocol 4 daemon";
+}
+
+TEST(CliHumanFormat, EstopAndReleaseEvents) {
+  EXPECT_NE(format_event_line(Json::parse(
+                R"({"time":1764600000.0,"event":"estop","client":3,"source":"client","reason":"door open"})"))
+                .find("estop (client): \"door open\""),
+            std::string::npos);
+  EXPECT_NE(format_event_line(Json::parse(R"({"time":1764600000.0,"event":"release","client":3})")).find("release"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -53,6 +53,8 @@ void expect_same(const GatewayConfig& a, const GatewayConfig& b) {
   EXPECT_EQ(a.control.limits.vx, b.control.limits.vx);
   EXPECT_EQ(a.control.limits.vy, b.control.limits.vy);
   EXPECT_EQ(a.control.limits.wz, b.control.limits.wz);
+  EXPECT_EQ(a.control.ramp, b.control.ramp);
+  EXPECT_EQ(a.safety.state_file, b.safety.state_file);
   EXPECT_EQ(a.telemetry.timeout_s, b.telemetry.timeout_s);
   EXPECT_EQ(a.telemetry.low_battery_v, b.telemetry.low_battery_v);
   EXPECT_EQ(a.odometry.scale, b.odometry.scale);
@@ -143,6 +145,44 @@ TEST(ConfigParse, EveryKeyIsApplied) {
     "log": {"level": "debug"}
   })");
   expect_same(c, non_default_config());
+}
+
+TEST(ConfigParse, AccelerationLimitsAndTheStateFile) {
+  const GatewayConfig c = parse_config(R"({
+    "control": {"accel": {"vx": 0.5, "vy": null, "wz": 2}, "decel": {"vx": 1.5}},
+    "safety": {"state_file": "/var/lib/wheeltecd/safety.json"}
+  })");
+  EXPECT_EQ(c.control.ramp.accel.vx, 0.5);
+  EXPECT_EQ(c.control.ramp.accel.vy, std::nullopt);
+  EXPECT_EQ(c.control.ramp.accel.wz, 2.0);
+  EXPECT_EQ(c.control.ramp.decel.vx, 1.5);
+  EXPECT_EQ(c.control.ramp.decel.wz, std::nullopt);
+  EXPECT_EQ(c.safety.state_file, "/var/lib/wheeltecd/safety.json");
+  const json printed = config_to_json(c);
+  EXPECT_EQ(printed["control"]["accel"], json::parse(R"({"vx": 0.5, "vy": null, "wz": 2.0})"));
+  EXPECT_EQ(printed["control"]["decel"], json::parse(R"({"vx": 1.5, "vy": null, "wz": null})"));
+  EXPECT_EQ(printed["safety"]["state_file"], "/var/lib/wheeltecd/safety.json");
+  EXPECT_FALSE(GatewayConfig{}.control.ramp.any()) << "no limits by default";
+  EXPECT_EQ(GatewayConfig{}.safety.state_file, std::nullopt);
+}
+
+TEST(ConfigParse, BadAccelerationLimitsAndStateFilesNameTheKey) {
+  for (const auto& [text, key] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"control": {"accel": {"vx": 0}}})", "control.accel.vx"},
+           {R"({"control": {"accel": {"wz": -1}}})", "control.accel.wz"},
+           {R"({"control": {"decel": {"vy": "fast"}}})", "control.decel.vy"},
+           {R"({"control": {"decel": {"vz": 1}}})", "control.decel.vz"},
+           {R"({"safety": {"state_file": "relative.json"}})", "safety.state_file"},
+           {R"({"safety": {"state_file": ""}})", "safety.state_file"},
+           {R"({"safety": {"state_file": 5}})", "safety.state_file"},
+       }) {
+    try {
+      parse_config(text);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const ConfigError& error) {
+      EXPECT_EQ(error.key(), key) << error.what();
+    }
+  }
 }
 
 TEST(ConfigParse, PartialDocumentKeepsTheBaseValues) {

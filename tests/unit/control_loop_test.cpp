@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -51,7 +52,7 @@ struct PublishedEvent {
 };
 
 // The simulated clock, bus, timers, stall guard and events: time moves only in advance_to().
-class Simulation : public MonotonicClock, public CommandSink, public StallGuard, public EventSink {
+class Simulation : public MonotonicClock, public CommandSink, public StallGuard, public EventSink, public LatchStore {
  public:
   explicit Simulation(Dialect dialect) : dialect_(dialect) {}
 
@@ -113,6 +114,10 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard,
   }
   void disarm() override { guard_armed_ = false; }
   void set_rate(double rate_hz) override { guard_rate_hz_ = rate_hz; }
+  bool save(const SafetyState& state) override {
+    saved_.push_back(state);
+    return true;
+  }
   void publish(std::optional<ClientId> client, const EventBody& body) override {
     const auto* deadman = std::get_if<events::Deadman>(&body);
     events_published_.push_back(
@@ -138,7 +143,7 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard,
   // The frames sent since the last call.
   std::vector<BusFrame> take_frames() { return std::exchange(bus_, {}); }
 
-  ControlPorts ports() { return {*this, *this, period_, enable_, deadman_, offline_, *this}; }
+  ControlPorts ports() { return {*this, *this, period_, enable_, deadman_, offline_, *this, *this}; }
 
   MonotonicNanos now_{1000s};
   bool guard_started_ = false;
@@ -146,6 +151,7 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard,
   bool guard_armed_ = false;
   double guard_rate_hz_ = 0.0;  // 0: never told
   std::vector<PublishedEvent> events_published_;
+  std::vector<SafetyState> saved_;  // what the latch store was given, in order
 
  private:
   std::uint64_t next_order() { return ++order_; }
@@ -489,6 +495,200 @@ TEST_F(ControlLoopTest, ReloadedRateRestartsTheGrid) {
   loop_.apply(faster);
   sim_.advance(100ms);
   EXPECT_EQ(velocities(sim_.take_frames()).size(), 10u);
+}
+
+const RealtimeNanos kWallClock{std::chrono::seconds(1764600000)};
+
+Latch client_latch(ClientId by, std::string reason = "operator pressed E-STOP") {
+  return Latch{LatchSource::client, std::move(reason), kWallClock, by};
+}
+
+int count_events(const std::vector<PublishedEvent>& events, const std::string& name) {
+  return static_cast<int>(std::count_if(events.begin(), events.end(), [&](const PublishedEvent& e) { return e.name == name; }));
+}
+
+TEST_F(ControlLoopTest, EstopSendsZeroAtOnceReleasesControlAndLatches) {
+  start();
+  loop_.drive(kAlice, kForward);
+  sim_.take_frames();
+  EXPECT_TRUE(loop_.estop(client_latch(kBob)));
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero}) << "at once, not at the next period";
+  EXPECT_EQ(supervisor_.owner(), std::nullopt);
+  ASSERT_EQ(sim_.saved_.size(), 1u) << "kept in the state file";
+  EXPECT_EQ(sim_.saved_[0], SafetyState(client_latch(kBob)));
+  ASSERT_EQ(count_events(sim_.events_published_, "estop"), 1);
+  EXPECT_EQ(sim_.events_published_.back().client, kBob);
+  EXPECT_GT(changes_, 0);
+}
+
+TEST_F(ControlLoopTest, EstopSendsAZeroFrameEvenWhenNothingMoves) {
+  start();
+  EXPECT_TRUE(loop_.estop(client_latch(kAlice)));
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
+}
+
+TEST_F(ControlLoopTest, WhileLatchedDriveAndEnableAreRefusedStopAndDisableWork) {
+  start();
+  loop_.estop(client_latch(kAlice));
+  sim_.take_frames();
+  EXPECT_EQ(loop_.drive(kAlice, kForward).decision.refusal, DriveRefusal::estop_latched);
+  EXPECT_EQ(loop_.drive(kBob, kForward).decision.refusal, DriveRefusal::estop_latched);
+  loop_.stop();
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero});
+  loop_.disable();
+  expect_zero_then_disable(sim_.take_frames());
+  EXPECT_EQ(loop_.enable(), EnableOutcome::estop_latched);
+  EXPECT_FALSE(supervisor_.enabled());
+}
+
+TEST_F(ControlLoopTest, WhileLatchedZeroFramesGoOnAtTheRate) {
+  start();
+  loop_.drive(kAlice, kForward);
+  loop_.estop(client_latch(kBob));
+  sim_.take_frames();
+  sim_.advance(10 * kPeriod);
+  const auto sent = velocities(sim_.take_frames());
+  EXPECT_EQ(sent, std::vector<Velocity>(10, kZero));
+}
+
+TEST_F(ControlLoopTest, ASecondEstopChangesNothing) {
+  start();
+  loop_.estop(client_latch(kAlice, "first"));
+  sim_.take_frames();
+  EXPECT_FALSE(loop_.estop(client_latch(kBob, "second")));
+  EXPECT_EQ(supervisor_.safety()->reason, "first");
+  EXPECT_EQ(supervisor_.safety()->by, kAlice);
+  EXPECT_EQ(sim_.saved_.size(), 1u);
+  EXPECT_EQ(count_events(sim_.events_published_, "estop"), 1);
+}
+
+TEST_F(ControlLoopTest, ReleaseClearsTheLatchAndNothingMovesUntilADrive) {
+  start();
+  loop_.drive(kAlice, kForward);
+  loop_.estop(client_latch(kBob));
+  EXPECT_TRUE(loop_.release(kAlice));
+  EXPECT_EQ(supervisor_.safety(), std::nullopt);
+  ASSERT_EQ(sim_.saved_.size(), 2u);
+  EXPECT_EQ(sim_.saved_[1], SafetyState{});
+  EXPECT_EQ(count_events(sim_.events_published_, "release"), 1);
+  sim_.take_frames();
+  sim_.advance(3 * kPeriod);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>(3, kZero));
+  EXPECT_EQ(loop_.drive(kAlice, kForward).decision.refusal, std::nullopt);
+  EXPECT_FALSE(loop_.release(kAlice)) << "not latched: nothing to release";
+}
+
+// Acceleration limits (spec section 12): 1 m/s² forward, 2 m/s² braking, 10 rad/s² turning.
+class ControlLoopRampTest : public ControlLoopTest {
+ protected:
+  ControlLoopRampTest() {
+    GatewayConfig ramped = config_;
+    ramped.control.ramp.accel.vx = 1.0;
+    ramped.control.ramp.decel.vx = 2.0;
+    ramped.control.ramp.accel.wz = 10.0;
+    config_ = ramped;
+    loop_.apply(ramped);
+  }
+
+  // Drives vx at `speed` until the frames carry it.
+  void ramp_up_to(double speed) {
+    loop_.drive(kAlice, {speed, 0, 0});
+    for (int i = 0; i < 100 && supervisor_.sent().x != static_cast<std::int16_t>(speed * 1000); ++i) {
+      sim_.advance(kPeriod);
+      loop_.drive(kAlice, {speed, 0, 0});
+    }
+    sim_.take_frames();
+  }
+};
+
+TEST_F(ControlLoopRampTest, EachFrameGrowsByAccelTimesTheTimeSinceThePrevious) {
+  start();
+  sim_.advance(kPeriod);
+  sim_.take_frames();
+  sim_.advance(20ms);
+  loop_.drive(kAlice, {0.3, 0, 0.5});
+  auto frames = velocities(sim_.take_frames());
+  ASSERT_EQ(frames.size(), 1u) << "the drive's frame at once carries the first step";
+  EXPECT_NEAR(frames[0].vx, 0.02, 1e-9) << "1 m/s² × 20 ms";
+  EXPECT_NEAR(frames[0].wz, 0.2, 1e-9) << "10 rad/s² × 20 ms";
+  sim_.advance(kPeriod - 20ms);  // the next periodic frame, 30 ms later
+  frames = velocities(sim_.take_frames());
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_NEAR(frames[0].vx, 0.05, 1e-9);
+  EXPECT_NEAR(frames[0].wz, 0.5, 1e-9) << "reached";
+  for (int i = 0; i < 10; ++i) {
+    sim_.advance(kPeriod);
+    loop_.drive(kAlice, {0.3, 0, 0.5});
+  }
+  EXPECT_NEAR(velocities(sim_.take_frames()).back().vx, 0.3, 1e-9);
+  EXPECT_NEAR(command_velocity(supervisor_.sent()).vx, 0.3, 1e-9) << "status control.sent";
+  EXPECT_NEAR(supervisor_.target().vx, 0.3, 1e-9);
+}
+
+TEST_F(ControlLoopRampTest, ADriveOfZerosIsRampedByDecel) {
+  start();
+  ramp_up_to(0.3);
+  loop_.drive(kAlice, kZero);
+  sim_.advance(kPeriod);
+  const auto frames = velocities(sim_.take_frames());
+  ASSERT_FALSE(frames.empty());
+  EXPECT_NEAR(frames.back().vx, 0.2, 1e-9) << "2 m/s² × 50 ms below 0.3";
+}
+
+TEST_F(ControlLoopRampTest, AReversalBrakesAtDecelThroughZero) {
+  start();
+  ramp_up_to(0.3);
+  loop_.drive(kAlice, {-0.3, 0, 0});
+  std::vector<double> seen;
+  for (int i = 0; i < 8; ++i) {
+    sim_.advance(kPeriod);
+    loop_.drive(kAlice, {-0.3, 0, 0});
+    seen.push_back(command_velocity(supervisor_.sent()).vx);
+  }
+  EXPECT_NEAR(seen[0], 0.2, 1e-9);
+  EXPECT_NEAR(seen[1], 0.1, 1e-9);
+  EXPECT_NEAR(seen[2], 0.0, 1e-9) << "zero reached at decel";
+  EXPECT_NEAR(seen[3], -0.05, 1e-9) << "then backward at accel";
+}
+
+TEST_F(ControlLoopRampTest, StopsAreNeverRamped) {
+  start();
+  for (const auto& how : std::vector<std::function<void()>>{
+           [&] { loop_.stop(); },
+           [&] { loop_.client_gone(kAlice); },
+           [&] { sim_.advance(kTimeout + kPeriod); },  // the deadman
+           [&] {
+             loop_.estop(client_latch(kBob));
+             loop_.release(kBob);
+           },
+       }) {
+    ramp_up_to(0.3);
+    how();
+    const auto frames = velocities(sim_.take_frames());
+    ASSERT_FALSE(frames.empty());
+    EXPECT_EQ(frames.back(), kZero);
+    for (const Velocity& frame : frames) {
+      EXPECT_TRUE(frame == kZero || frame == (Velocity{0.3, 0, 0})) << "from 0.3 to zero in one frame, got " << frame.vx;
+    }
+    EXPECT_EQ(supervisor_.sent(), ControlCommand{});
+  }
+  ramp_up_to(0.3);
+  loop_.disable();
+  expect_zero_then_disable(sim_.take_frames());
+}
+
+TEST_F(ControlLoopRampTest, TheLinksReturnStartsTheRampAtZero) {
+  start();
+  ramp_up_to(0.3);
+  loop_.link_changed(LinkState::down);
+  sim_.advance(kPeriod);
+  loop_.drive(kAlice, {0.3, 0, 0});  // refused: the link is down
+  loop_.link_changed(LinkState::up);
+  auto frames = sim_.take_frames();
+  ASSERT_FALSE(velocities(frames).empty());
+  EXPECT_EQ(velocities(frames).front(), kZero) << "zero at once";
+  sim_.advance(kPeriod);
+  EXPECT_NEAR(velocities(sim_.take_frames()).back().vx, 0.05, 1e-9) << "then up at accel";
 }
 
 class ControlLoop0x181Test : public ControlLoopTest {

@@ -49,6 +49,11 @@ TEST(DaemonEvent, EachKindsExactText) {
   EXPECT_EQ(text_of(std::nullopt, events::Reload{}), head + R"("reload","client":null,"ok":true})");
   EXPECT_EQ(text_of(std::nullopt, events::Reload{"control.rate_hz: must be positive"}),
             head + R"("reload","client":null,"ok":false,"message":"control.rate_hz: must be positive"})");
+  EXPECT_EQ(text_of(3, events::Estop{LatchSource::client, "operator pressed E-STOP"}),
+            head + R"("estop","client":3,"source":"client","reason":"operator pressed E-STOP"})");
+  EXPECT_EQ(text_of(std::nullopt, events::Estop{LatchSource::tilt, "roll 87.0 deg"}),
+            head + R"("estop","client":null,"source":"tilt","reason":"roll 87.0 deg"})");
+  EXPECT_EQ(text_of(3, events::Release{}), head + R"("release","client":3})");
 }
 
 TEST(DaemonEvent, NamesAreTheContractsWords) {
@@ -56,7 +61,7 @@ TEST(DaemonEvent, NamesAreTheContractsWords) {
       {events::Connected{}, "connected"}, {events::Disconnected{}, "disconnected"}, {events::Drive{}, "drive"},
       {events::Refused{}, "refused"},     {events::Stop{}, "stop"},                 {events::Deadman{}, "deadman"},
       {events::Enable{}, "enable"},       {events::Disable{}, "disable"},           {events::Mark{}, "mark"},
-      {events::Reload{}, "reload"}};
+      {events::Reload{}, "reload"},       {events::Estop{}, "estop"},               {events::Release{}, "release"}};
   ASSERT_EQ(kinds.size(), std::variant_size_v<EventBody>);
   for (const auto& [body, name] : kinds) {
     EXPECT_EQ(event_name(body), name);

@@ -466,6 +466,26 @@ TEST(RpcMark, MissingNonStringAndUnknownParamsAreRefused) {
   EXPECT_TRUE(contains(mark_error(json::array({"a"})).message, "must be an object"));
 }
 
+std::string estop_reason(const json& params) { return parsed_params<std::string>(parse_estop_params, params); }
+Error estop_error(const json& params) { return invalid_params_error(parse_estop_params, params); }
+
+TEST(RpcEstop, TheReasonIsOptional) {
+  EXPECT_EQ(estop_reason(nullptr), "");
+  EXPECT_EQ(estop_reason(json::object()), "");
+  EXPECT_EQ(estop_reason(json::array()), "");
+  EXPECT_EQ(estop_reason({{"reason", "operator pressed E-STOP"}}), "operator pressed E-STOP");
+  EXPECT_EQ(estop_reason({{"reason", std::string(200, 'x')}}).size(), 200u);
+}
+
+TEST(RpcEstop, ABadReasonIsRefused) {
+  EXPECT_EQ(estop_error({{"reason", std::string(201, 'x')}}).message,
+            "reason has 201 characters, more than the 200 it may have");
+  EXPECT_EQ(estop_error({{"reason", 5}}).message, "reason must be a string, got number");
+  EXPECT_EQ(estop_error({{"reason", nullptr}}).message, "reason must be a string, got null");
+  EXPECT_EQ(estop_error({{"why", "x"}}).message, "unknown param \"why\"");
+  EXPECT_TRUE(contains(estop_error(json::array({"x"})).message, "must be an object"));
+}
+
 // Hostile request lines (issue #4): duplicate keys, huge numbers and mixed garbage get
 // one clear error each, never a silent guess.
 

@@ -8,7 +8,9 @@
 #include "wheeltec/command_response.hpp"
 #include "wheeltec/control_arbiter.hpp"
 #include "wheeltec/control_frame.hpp"
+#include "wheeltec/emergency_stop.hpp"
 #include "wheeltec/types.hpp"
+#include "wheeltec/velocity_ramp.hpp"
 
 namespace wheeltec {
 
@@ -26,7 +28,10 @@ enum class ControlMode {
 };
 
 // Why a drive was not taken.
-enum class DriveRefusal { chassis_not_ready, link_down, control_disabled, control_held };
+enum class DriveRefusal { estop_latched, chassis_not_ready, link_down, control_disabled, control_held };
+
+// What an enable request does.
+enum class EnableOutcome { enabled, already_enabled, estop_latched, unavailable };
 
 struct DriveDecision {
   std::optional<DriveRefusal> refusal;  // empty: accepted
@@ -58,6 +63,7 @@ struct SupervisorSettings {
   std::chrono::nanoseconds command_timeout = std::chrono::milliseconds(500);
   std::chrono::nanoseconds telemetry_timeout = std::chrono::milliseconds(500);
   VelocityLimits limits;
+  RampLimits ramp;
 };
 
 // The chassis rules in one place (spec section 2, "Control rules", and section 8): whether
@@ -70,10 +76,10 @@ class ChassisSupervisor {
 
   void apply(const SupervisorSettings& settings);
 
-  // Control. Each returns whether the command frame must go out now.
+  // Control. A stop (stop, disable, the owner gone, the deadman, estop, shut_down, a boot
+  // or self-test entered) sets the target to zero and the next frame to zero, unramped.
   bool start();                // the start-up zero frame
-  void first_zero_sent();      // it reached the link
-  bool enable();               // true if control was disabled until now
+  EnableOutcome enable();
   bool disable();              // true if control was enabled until now; target zero, no owner
   void stop();                 // target zero, no owner (always sent)
   std::optional<ControlLapse> client_gone(ClientId client);        // set if it held control
@@ -81,8 +87,22 @@ class ChassisSupervisor {
   void shut_down();
   DriveDecision drive(ClientId client, const Velocity& target, MonotonicNanos now);
 
+  // The emergency stop (spec section 12). estop: true if it latched now (a stop follows);
+  // false while already latched, which changes nothing. release: true if it was latched.
+  bool estop(const Latch& latch);
+  bool release();
+  // At start, from the state file: latched as before, without a stop (nothing drives yet).
+  void restore(const SafetyState& state) { safety_ = state; }
+  const SafetyState& safety() const { return safety_; }
+
+  // The control frame to send at `now`: the target, ramped from the previous frame by the
+  // acceleration limits (spec section 12), quantized. frame_sent: it reached the link.
+  ControlCommand frame(MonotonicNanos now) const;
+  void frame_sent(const ControlCommand& frame, MonotonicNanos now);
+  const ControlCommand& sent() const { return sent_; }  // the last frame that reached the link
+
   // The chassis.
-  void link_changed(LinkState state) { link_ = state; }
+  void link_changed(LinkState state, MonotonicNanos now);
   RecordOutcome record(const PhaseInput& record, MonotonicNanos now);
   bool expire_online(MonotonicNanos now);  // true if it just went offline
 
@@ -103,6 +123,8 @@ class ChassisSupervisor {
  private:
   // Quantizes the arbiter's target; true if the frame changed.
   bool update_command();
+  // Target zero, no owner, and the next frame zero at once.
+  void zero();
   // The owner's control as it would lapse now; empty without an owner.
   std::optional<ControlLapse> lapse() const;
 
@@ -111,6 +133,12 @@ class ChassisSupervisor {
   LinkState link_ = LinkState::down;
   ControlArbiter arbiter_;
   ControlCommand command_;
+  // Where the next frame's ramp starts, and when: the last frame sent, or zero at once
+  // after a stop or the link's return.
+  Velocity ramp_from_;
+  std::optional<MonotonicNanos> ramp_from_time_;
+  ControlCommand sent_;
+  SafetyState safety_;
   bool online_ = false;
   std::optional<MonotonicNanos> last_record_;
   ChassisPhaseTracker phase_tracker_;

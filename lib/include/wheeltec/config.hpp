@@ -13,6 +13,7 @@
 #include "wheeltec/control_frame.hpp"
 #include "wheeltec/odometry.hpp"
 #include "wheeltec/types.hpp"
+#include "wheeltec/velocity_ramp.hpp"
 
 namespace wheeltec {
 
@@ -50,6 +51,7 @@ struct GatewayConfig {
     double enable_refresh_s = 1.0;
     bool disable_on_exit = true;
     VelocityLimits limits;
+    RampLimits ramp;  // the keys accel and decel
   } control;
   struct Telemetry {
     double timeout_s = 0.5;
@@ -58,6 +60,9 @@ struct GatewayConfig {
   struct OdometryConfig {
     OdometryScale scale;
   } odometry;
+  struct Safety {
+    std::optional<std::string> state_file;  // null: the latch is kept in memory only
+  } safety;
   struct Api {
     std::string socket = "/run/wheeltecd/wheeltecd.sock";
     std::uint32_t mode = 0660;  // written as an octal string in JSON: "0660"
@@ -101,6 +106,10 @@ GatewayConfig parse_config(std::string_view text, GatewayConfig base = {});
 
 // The configuration as a complete JSON document of the config file's shape.
 nlohmann::json config_to_json(const GatewayConfig& config);
+
+// {"vx", "vy", "wz"} with null for no limit: control.accel's and decel's shape, also the status object's.
+nlohmann::json axis_rates_to_json(const AxisRates& rates);
+nlohmann::json velocity_limits_to_json(const VelocityLimits& limits);
 
 // {"x", "y", "yaw_positive", "yaw_negative"}: the config key's shape, also the status object's.
 nlohmann::json odometry_scale_to_json(const OdometryScale& scale);

@@ -56,6 +56,7 @@ std::int64_t read_integer(const nlohmann::json& value, const std::string& path, 
 Field text(std::string_view key, std::string& target);
 Field optional_text(std::string_view key, std::optional<std::string>& target);  // a string, or null for none
 Field number(std::string_view key, double& target);
+Field optional_number(std::string_view key, std::optional<double>& target);  // a number, or null for none
 Field boolean(std::string_view key, bool& target);
 Field text_array(std::string_view key, std::vector<std::string>& target);  // an item's path is "key[i]"
 // A nested object of these fields.

@@ -18,6 +18,7 @@ struct VelocityLimits {
   double vx = 1.0;
   double vy = 1.0;
   double wz = 3.0;
+  friend bool operator==(const VelocityLimits&, const VelocityLimits&) = default;
 };
 
 // The three int16 fields of a control frame: X, Y in mm/s, Z in 0.001 rad/s

@@ -14,6 +14,7 @@
 
 #include "wheeltec/clocks.hpp"
 #include "wheeltec/control_arbiter.hpp"
+#include "wheeltec/emergency_stop.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -53,6 +54,14 @@ struct Disable {};
 struct Mark {
   std::string_view text;
 };
+// The emergency stop latched (protocol 5): by a client's estop (the event's client is the
+// caller) or a hazard (the daemon's own).
+struct Estop {
+  LatchSource source = LatchSource::client;
+  std::string_view reason;
+};
+// A client released the latch.
+struct Release {};
 // SIGHUP handled.
 struct Reload {
   std::optional<std::string_view> error;  // why the new configuration was refused; empty: ok
@@ -63,7 +72,8 @@ struct Reload {
 // The text members (method, message, text, error) are views: an event is encoded where it
 // is made, and does not outlive the call that publishes it.
 using EventBody = std::variant<events::Connected, events::Disconnected, events::Drive, events::Refused, events::Stop,
-                               events::Deadman, events::Enable, events::Disable, events::Mark, events::Reload>;
+                               events::Deadman, events::Enable, events::Disable, events::Mark, events::Reload,
+                               events::Estop, events::Release>;
 
 struct DaemonEvent {
   RealtimeNanos time{};            // the daemon's clock, since the epoch
@@ -72,7 +82,7 @@ struct DaemonEvent {
 };
 
 // "connected", "disconnected", "drive", "refused", "stop", "deadman", "enable", "disable",
-// "mark", "reload".
+// "mark", "reload", "estop", "release".
 std::string_view event_name(const EventBody& body);
 
 // Appends the EVENT object (no newline): "time" (6 decimals), "event", "client" (null for

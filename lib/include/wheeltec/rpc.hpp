@@ -64,4 +64,12 @@ inline constexpr std::size_t kMaxMarkCharacters = 200;
 // one longer than kMaxMarkCharacters.
 std::variant<std::string_view, Error> parse_mark_params(const Request& request);
 
+// An estop's reason may have at most this many characters, like a mark's text.
+inline constexpr std::size_t kMaxEstopReasonCharacters = 200;
+
+// estop params: absent, null, {} or {"reason": "..."} (a view into request.params; "" when
+// none). -32602 for anything else: an unknown param, a reason that is not a string or one
+// longer than kMaxEstopReasonCharacters.
+std::variant<std::string_view, Error> parse_estop_params(const Request& request);
+
 }  // namespace wheeltec::rpc

@@ -21,9 +21,10 @@ inline constexpr int kBusDown = -32003;          // the link to the chassis is d
 inline constexpr int kNoTelemetry = -32004;      // telemetry before the first record
 inline constexpr int kNotPermitted = -32005;     // this user may not control the chassis
 inline constexpr int kChassisNotReady = -32006;  // drive while the phase is booting, self-test or halted
+inline constexpr int kEmergencyStopLatched = -32007;  // drive, enable or release while the emergency stop holds (protocol 5)
 
 // The bridges' (a bridge answers its own clients on behalf of the daemon).
-inline constexpr int kTooManyOperators = -32007;   // wheeltec-mqtt: every operator slot is taken
+inline constexpr int kTooManyOperators = -32009;   // wheeltec-mqtt: every operator slot is taken
 inline constexpr int kDaemonUnreachable = -32008;  // wheeltecd cannot be reached, or gave no answer
 
 // A short English name of `code`, for messages; nullptr for a code not listed here.
@@ -41,6 +42,7 @@ constexpr const char* describe(int code) {
     case kNoTelemetry: return "no telemetry yet";
     case kNotPermitted: return "not allowed to control the chassis";
     case kChassisNotReady: return "the chassis is not ready (booting, self-test or halted)";
+    case kEmergencyStopLatched: return "the emergency stop is latched";
     case kTooManyOperators: return "too many remote operators";
     case kDaemonUnreachable: return "wheeltecd is not reachable";
     default: return nullptr;

@@ -75,7 +75,7 @@ TEST_F(EventsBacklog, ANonReaderLosesEventsCountedWhileOthersGetEveryOneAndDrivi
   }
   EXPECT_EQ(stats.call("stats")["clients_disconnected_slow"], 1);
   EXPECT_EQ(reader.next("disconnected", 1s)["event"], "disconnected");
-  EXPECT_EQ(stats.call("version")["protocol"], 4) << "the daemon serves on";
+  EXPECT_EQ(stats.call("version")["protocol"], 5) << "the daemon serves on";
 }
 
 }  // namespace

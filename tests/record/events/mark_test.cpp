@@ -1,5 +1,5 @@
 // `mark` (spec section 10): at most 200 characters (code points, not bytes), a string,
-// open to anyone who can connect; and `version` says protocol 4.
+// open to anyone who can connect; and `version` says protocol 5.
 
 #include <gtest/gtest.h>
 
@@ -62,7 +62,7 @@ TEST_F(EventsMark, VersionIsProtocol4) {
   SerialDaemon& daemon = start_daemon();
   auto client = daemon.connect();
   const Json version = client.call("version");
-  EXPECT_EQ(version["protocol"], 4) << version.dump();
+  EXPECT_EQ(version["protocol"], 5) << version.dump();
 }
 
 }  // namespace

@@ -50,6 +50,15 @@ struct Telemetry {
   Json json;  // the whole record, for fields not typed here
 };
 
+// The emergency stop (protocol 5): latched until a client with control rights releases it.
+struct Safety {
+  bool latched = false;
+  std::optional<std::string> source;  // "client", "collision", "tilt", "stall" while latched
+  std::optional<std::string> reason;  // the caller's text ("" when none) or a hazard's figures
+  std::optional<double> since;        // seconds since the epoch
+  std::optional<std::uint64_t> by;    // the client that called estop
+};
+
 struct Status {
   std::string bus_transport = "can";  // "can" or "serial" (protocol 3; a protocol 2 daemon speaks CAN)
   std::string bus_interface;          // the CAN interface or the serial device, as configured
@@ -63,6 +72,8 @@ struct Status {
   bool control_enabled = false;
   std::optional<std::uint64_t> owner;  // id of the client holding control
   Velocity target;
+  Velocity sent;                 // what the last control frame carried (protocol 5; zero before)
+  std::optional<Safety> safety;  // empty from a daemon before protocol 5
   Json json;  // the whole object, for fields not typed here
 };
 
