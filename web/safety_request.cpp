@@ -12,9 +12,6 @@ bool blank_text(std::string_view text) {
   return text.find_first_not_of(" \t\r\n") == std::string_view::npos;
 }
 
-// The daemon's code for a latched emergency stop (spec section 12).
-constexpr int kEmergencyStopLatched = -32007;
-
 }  // namespace
 
 std::variant<Json, RequestProblem> estop_params(std::string_view body) {
@@ -38,7 +35,7 @@ unsigned http_status_of_rpc_error(int code) {
   switch (code) {
     case error_codes::kInvalidParams: return 400;
     case error_codes::kNotPermitted: return 403;
-    case kEmergencyStopLatched: return 409;
+    case error_codes::kEmergencyStopLatched: return 409;
     case error_codes::kDaemonUnreachable: return 503;
     default: return 502;
   }
