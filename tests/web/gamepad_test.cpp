@@ -36,7 +36,99 @@ struct Expected {
   bool stop = false;  // a way of letting go: zero at once
 };
 
-using WebGamepad = SerialWebTest;
+// Chromium on the page, driven by gamepad_browser.cjs (`variant` its fifth argument): the
+// phases it went through, and the answer of its release.
+struct GamepadRun {
+  std::vector<Phase> phases;
+  Json released;
+  std::string output;
+};
+
+class WebGamepad : public SerialWebTest {
+ protected:
+  GamepadRun run_browser(const std::string& variant = "") {
+    GamepadRun run;
+    std::filesystem::create_directories(WHEELTEC_WEB_SCREENSHOTS);
+    const auto home = directory_->path() / "chromium-home";
+    std::filesystem::create_directories(home);
+    ChildProcess chromium("chromium", "/usr/bin/chromium",
+                          {"--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                           "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                           "--user-data-dir=" + (directory_->path() / "chromium-profile").string(),
+                           "--window-size=1280,1100",
+                           "--remote-debugging-port=" + std::to_string(kGamepadDevToolsPort), "about:blank"},
+                          directory_->path(), {{"HOME", home.string()}});
+    std::vector<std::string> arguments{WHEELTEC_WEB_CLIENTS "/gamepad_browser.cjs", std::to_string(kGamepadDevToolsPort),
+                                       WHEELTEC_WEB_SCREENSHOTS, "http://127.0.0.1:" + std::to_string(kGamepadPort),
+                                       kToken};
+    if (!variant.empty()) arguments.push_back(variant);
+    const auto done = integration::run_program("/usr/bin/node", arguments, directory_->path(), 90s,
+                                               {{"NODE_PATH", WHEELTEC_WEB_NODE_MODULES}});
+    EXPECT_TRUE(done.status.exited_with(0)) << done.describe() << chromium.output_report() << web_logs();
+    run.output = done.describe();
+    std::istringstream lines(done.out);
+    for (std::string line; std::getline(lines, line);) {
+      const Json event = Json::parse(line, nullptr, false);
+      if (!event.is_object()) continue;
+      if (event["event"] == "phase") {
+        const auto ns = std::chrono::nanoseconds(std::stoll(event["mono_ns"].get<std::string>()));
+        run.phases.push_back({event["phase"], SteadyClock::time_point(ns), nullptr});
+      } else if (event["event"] == "seen" && !run.phases.empty()) {
+        run.phases.back().seen = event["dom"];
+      } else if (event["event"] == "released") {
+        run.released = event["released"];
+      }
+    }
+    chromium.terminate();
+    return run;
+  }
+
+  // Every phase's frames as `expected` says (see Expected).
+  void judge(const std::vector<Phase>& phases, const std::map<std::string, Expected>& expected) const {
+    const auto frames = fake_->commands();
+    ASSERT_FALSE(frames.empty());
+    const auto after = [](SteadyClock::time_point t, double s) {
+      return t + std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(s));
+    };
+    for (std::size_t p = 0; p < phases.size(); ++p) {
+      const Phase& phase = phases[p];
+      const Expected& want = expected.at(phase.name);
+      const auto end = p + 1 < phases.size() ? phases[p + 1].start : frames.back().time;
+      SCOPED_TRACE(phase.name + " (phase " + std::to_string(p) + "), the page showed " + phase.seen.dump());
+      if (want.stop) {
+        const CommandSeen* zero = nullptr;
+        for (const auto& frame : frames) {
+          if (frame.time >= phase.start && frame.zero()) {
+            zero = &frame;
+            break;
+          }
+        }
+        ASSERT_NE(zero, nullptr) << "no zero frame";
+        const double latency = serial_tests::seconds_between(phase.start, zero->time);
+        std::printf("[ figure ] gamepad %s -> zero frame %.0f ms\n", phase.name.c_str(), latency * 1e3);
+        EXPECT_LT(latency, kAtOnceS);
+      }
+      std::size_t judged = 0;
+      for (const auto& frame : frames) {
+        if (frame.time < after(phase.start, want.stop ? kAtOnceS : kSettleS) || frame.time >= end) continue;
+        ++judged;
+        if (frame.x == want.x && frame.y == want.y && frame.z == want.z) continue;
+        ADD_FAILURE() << "frame " << frame.text() << " at +" << serial_tests::seconds_between(phase.start, frame.time)
+                      << " s: x " << frame.x << " y " << frame.y << " z " << frame.z << ", expected " << want.x << " "
+                      << want.y << " " << want.z;
+        break;  // one per phase
+      }
+      if (want.x || want.y || want.z) EXPECT_GE(judged, 5u) << "too few frames while driving";
+    }
+  }
+};
+
+Json seen_in(const std::vector<Phase>& phases, const std::string& name) {
+  for (const Phase& phase : phases) {
+    if (phase.name == name) return phase.seen;
+  }
+  return Json();
+}
 
 TEST_F(WebGamepad, DrivesWhileLbIsHeldAndStopsAtOnceWhenLetGo) {
   start_web(kGamepadPort);
@@ -45,39 +137,10 @@ TEST_F(WebGamepad, DrivesWhileLbIsHeldAndStopsAtOnceWhenLetGo) {
   // Protocol 5's limits; an older daemon has none and turbo is the normal full speed.
   const int turbo_x = control.contains("limits") ? static_cast<int>(control["limits"]["vx"].get<double>() * 1000 + 0.5)
                                                  : 500;
-  std::filesystem::create_directories(WHEELTEC_WEB_SCREENSHOTS);
-  const auto home = directory_->path() / "chromium-home";
-  std::filesystem::create_directories(home);
-  ChildProcess chromium("chromium", "/usr/bin/chromium",
-                        {"--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                         "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                         "--user-data-dir=" + (directory_->path() / "chromium-profile").string(),
-                         "--window-size=1280,1100", "--remote-debugging-port=" + std::to_string(kGamepadDevToolsPort),
-                         "about:blank"},
-                        directory_->path(), {{"HOME", home.string()}});
-  const auto done = integration::run_program(
-      "/usr/bin/node",
-      {WHEELTEC_WEB_CLIENTS "/gamepad_browser.cjs", std::to_string(kGamepadDevToolsPort), WHEELTEC_WEB_SCREENSHOTS,
-       "http://127.0.0.1:" + std::to_string(kGamepadPort), kToken},
-      directory_->path(), 90s, {{"NODE_PATH", WHEELTEC_WEB_NODE_MODULES}});
-  ASSERT_TRUE(done.status.exited_with(0)) << done.describe() << chromium.output_report() << web_logs();
-
-  std::vector<Phase> phases;
-  Json released;
-  std::istringstream lines(done.out);
-  for (std::string line; std::getline(lines, line);) {
-    const Json event = Json::parse(line, nullptr, false);
-    if (!event.is_object()) continue;
-    if (event["event"] == "phase") {
-      const auto ns = std::chrono::nanoseconds(std::stoll(event["mono_ns"].get<std::string>()));
-      phases.push_back({event["phase"], SteadyClock::time_point(ns), nullptr});
-    } else if (event["event"] == "seen" && !phases.empty()) {
-      phases.back().seen = event["dom"];
-    } else if (event["event"] == "released") {
-      released = event["released"];
-    }
-  }
-  ASSERT_GE(phases.size(), 20u) << done.out;
+  const GamepadRun run = run_browser();
+  const auto& phases = run.phases;
+  const Json& released = run.released;
+  ASSERT_GE(phases.size(), 20u) << run.output;
   const std::map<std::string, Expected> expected = {
       {"connected", {}},
       {"stick-without-lb", {}},
@@ -97,46 +160,8 @@ TEST_F(WebGamepad, DrivesWhileLbIsHeldAndStopsAtOnceWhenLetGo) {
       {"estop-button", {0, 0, 0, true}},
       {"closed", {0, 0, 0, true}},
   };
-  const auto frames = fake_->commands();
-  const auto after = [](SteadyClock::time_point t, double s) {
-    return t + std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(s));
-  };
-  for (std::size_t p = 0; p < phases.size(); ++p) {
-    const Phase& phase = phases[p];
-    const Expected& want = expected.at(phase.name);
-    const auto end = p + 1 < phases.size() ? phases[p + 1].start : frames.back().time;
-    SCOPED_TRACE(phase.name + " (phase " + std::to_string(p) + "), the page showed " + phase.seen.dump());
-    if (want.stop) {
-      const CommandSeen* zero = nullptr;
-      for (const auto& frame : frames) {
-        if (frame.time >= phase.start && frame.zero()) {
-          zero = &frame;
-          break;
-        }
-      }
-      ASSERT_NE(zero, nullptr) << "no zero frame";
-      const double latency = serial_tests::seconds_between(phase.start, zero->time);
-      std::printf("[ figure ] gamepad %s -> zero frame %.0f ms\n", phase.name.c_str(), latency * 1e3);
-      EXPECT_LT(latency, kAtOnceS);
-    }
-    std::size_t judged = 0;
-    for (const auto& frame : frames) {
-      if (frame.time < after(phase.start, want.stop ? kAtOnceS : kSettleS) || frame.time >= end) continue;
-      ++judged;
-      if (frame.x == want.x && frame.y == want.y && frame.z == want.z) continue;
-      ADD_FAILURE() << "frame " << frame.text() << " at +"
-                    << serial_tests::seconds_between(phase.start, frame.time) << " s: x " << frame.x << " y "
-                    << frame.y << " z " << frame.z << ", expected " << want.x << " " << want.y << " " << want.z;
-      break;  // one per phase
-    }
-    if (want.x || want.y || want.z) EXPECT_GE(judged, 5u) << "too few frames while driving";
-  }
-  const auto seen = [&](const std::string& name) {
-    for (const Phase& phase : phases) {
-      if (phase.name == name) return phase.seen;
-    }
-    return Json();
-  };
+  judge(phases, expected);
+  const auto seen = [&](const std::string& name) { return seen_in(phases, name); };
   const std::string id = "Test Pad (STANDARD GAMEPAD Vendor: 045e Product: 028e)";
   EXPECT_NE(seen("connected")["gamepad"].get<std::string>().find(id), std::string::npos);
   EXPECT_NE(seen("connected")["gamepad"].get<std::string>().find("idle"), std::string::npos);
@@ -147,7 +172,27 @@ TEST_F(WebGamepad, DrivesWhileLbIsHeldAndStopsAtOnceWhenLetGo) {
   EXPECT_EQ(seen("estop-button")["latched"], "true");
   EXPECT_NE(seen("estop-button")["banner"].get<std::string>().find("reason: gamepad"), std::string::npos);
   EXPECT_EQ(released["status"], 200) << released;
-  chromium.terminate();
+}
+
+// On a chassis that cannot move sideways the left stick's left gives no vy.
+class WebGamepadDiff : public WebGamepad {
+ protected:
+  serial_tests::DaemonOptions daemon_options() const override {
+    serial_tests::DaemonOptions options;
+    options.extra_arguments = {"--chassis", "diff"};
+    return options;
+  }
+};
+
+TEST_F(WebGamepadDiff, GivesNoVyOnADifferentialChassis) {
+  start_web(kGamepadPort);
+  auto client = daemons_.front()->connect();
+  ASSERT_EQ(client.request("status")["result"]["chassis"]["type"], "diff");
+  const GamepadRun run = run_browser("short");
+  ASSERT_EQ(run.phases.size(), 3u) << run.output;
+  judge(run.phases, {{"connected", {}}, {"vy-left", {500, 0, 0}}, {"lb-released", {0, 0, 0, true}}});
+  EXPECT_NE(seen_in(run.phases, "vy-left")["gamepad"].get<std::string>().find("driving vx 0.5 m/s, vy 0 m/s"),
+            std::string::npos);
 }
 
 }  // namespace

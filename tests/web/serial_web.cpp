@@ -88,7 +88,7 @@ std::string header_line(const HttpAnswer& answer, const std::string& name) {
 void SerialWebTest::SetUp() {
   SerialTest::SetUp();
   fake_->start_telemetry(20ms);
-  start_daemon_ready();
+  start_daemon_ready(daemon_options());
   token_file_ = directory_->path() / "token";
   std::ofstream(token_file_) << kToken << "\n";
   std::filesystem::permissions(token_file_,

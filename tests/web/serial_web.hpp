@@ -54,6 +54,8 @@ std::string header_line(const HttpAnswer& answer, const std::string& name);
 class SerialWebTest : public serial_tests::SerialTest {
  protected:
   void SetUp() override;
+  // The daemon SetUp starts (a suite may want another chassis).
+  virtual serial_tests::DaemonOptions daemon_options() const { return {}; }
   void TearDown() override;
 
   // wheeltec-web on 127.0.0.1:port with the token file and the page's sources, plus `extra`

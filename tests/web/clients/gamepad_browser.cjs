@@ -2,7 +2,8 @@
 // (tests/web/gamepad_test.cpp). Headless Chromium has no virtual gamepad, so the page gets a
 // mock behind navigator.getGamepads (installed before its scripts run) that this script moves:
 // sticks, buttons, connecting and every way of going away.
-//   node gamepad_browser.cjs DEVTOOLS_PORT SCREENSHOT_DIR BASE_URL TOKEN
+//   node gamepad_browser.cjs DEVTOOLS_PORT SCREENSHOT_DIR BASE_URL TOKEN [short]
+// (short: connect, the left stick with LB held, LB released: for a chassis without vy.)
 // Prints one JSON line per phase: {"event":"phase","phase":NAME,"mono_ns":...,"dom":{...}}
 // (mono_ns is CLOCK_MONOTONIC, the test's steady_clock, so frames can be judged per phase),
 // then {"event":"done"}; exit 0 on success. Its progress goes to stderr.
@@ -12,7 +13,7 @@ const http = require('http');
 const path = require('path');
 const { openPage, sleep } = require('./devtools.cjs');
 
-const [port, screenshots, base, token] = process.argv.slice(2);
+const [port, screenshots, base, token, variant] = process.argv.slice(2);
 const say = (object) => console.log(JSON.stringify(object));
 function fail(why) { say({ event: 'failed', why }); process.exit(1); }
 setTimeout(() => fail('timed out'), 80000).unref();
@@ -77,6 +78,12 @@ async function main() {
   };
   const forward = [0, -1, 0, 0];
   await phase('connected', () => pad('connect()'), 400);
+  if (variant === 'short') {
+    await phase('vy-left', () => pad('set([-1, -1, 0, 0], [4])'), 700);
+    await phase('lb-released', () => pad('set([-1, -1, 0, 0], [])'), 500);
+    say({ event: 'done' });
+    process.exit(0);
+  }
   await phase('stick-without-lb', () => pad(`set(${JSON.stringify(forward)}, [])`), 600);
   await phase('drive-forward', () => pad(`set(${JSON.stringify(forward)}, [4])`), 1000);
   await phase('dead-zone', () => pad('set([0.09, -1, -0.09, 0.05], [4])'), 500);
