@@ -25,7 +25,7 @@ struct PieceWriter : std::enable_shared_from_this<PieceWriter> {
 
   WebStream& stream;
   std::shared_ptr<FileResponse> response;
-  http::response_serializer<http::file_body> serializer;
+  http::response_serializer<FileRangeBody> serializer;
   std::chrono::steady_clock::duration stall;
   std::function<void(boost::beast::error_code)> done;
 };

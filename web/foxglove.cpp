@@ -65,7 +65,8 @@ std::string status_schema() {
                    {"bus", {{"type", "object"}}},
                    {"chassis", {{"type", "object"}}},
                    {"dock", {{"type", "object"}}},
-                   {"control", {{"type", "object"}}}}}};
+                   {"control", {{"type", "object"}}},
+                   {"safety", {{"type", "object"}}}}}};
   return schema.dump();
 }
 
@@ -165,6 +166,10 @@ ClientMessage parse_object(const Json& message) {
 }
 
 }  // namespace
+
+bool client_publish_topic(std::string_view topic) {
+  return topic == kCmdVelTopic || topic == kEstopTopic || topic == kReleaseTopic;
+}
 
 const std::vector<Channel>& channels() {
   static const std::vector<Channel> all = {

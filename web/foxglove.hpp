@@ -20,6 +20,13 @@ using client::Json;
 
 inline constexpr std::string_view kSubprotocol = "foxglove.websocket.v1";
 inline constexpr std::string_view kCmdVelTopic = "/wheeltec/cmd_vel";
+// The emergency stop's client-publish topics (spec section 12): `estop` with the payload's
+// reason (anyone), `release` (with the token); the payload of a release is not read.
+inline constexpr std::string_view kEstopTopic = "/wheeltec/estop";
+inline constexpr std::string_view kReleaseTopic = "/wheeltec/release";
+
+// Whether a client may advertise `topic` to publish on it.
+bool client_publish_topic(std::string_view topic);
 
 enum class ChannelId : std::uint32_t { telemetry = 1, status = 2, odom = 3, imu = 4 };
 

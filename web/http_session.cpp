@@ -10,13 +10,17 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "wheeltec/error_codes.hpp"
 #include "wheeltec/service/logging.hpp"
 
 #include "access.hpp"
+#include "byte_range.hpp"
 #include "file_response.hpp"
 #include "foxglove.hpp"
 #include "record_directory.hpp"
 #include "record_files.hpp"
+#include "record_messages.hpp"
+#include "safety_request.hpp"
 #include "server.hpp"
 #include "viewer.hpp"
 
@@ -104,6 +108,8 @@ void HttpSession::handle(Request request) {
   for (const DaemonRoute& route : kDaemonRoutes) {
     if (path == route.path) return relay(request, route);
   }
+  if (path == "/api/estop") return safety(request, "estop");
+  if (path == "/api/release") return safety(request, "release");
   if (path == kRecordsPath || record_name_in_path(path)) return records(request, path);
   const StaticFile* file = server_.files().find(path);
   if (file == nullptr) {
@@ -136,16 +142,9 @@ void HttpSession::upgrade(Request request) {
                         fmt::format("origin {} is not allowed (wheeltec-web --allow-origin)", origin->substr(0, 200)),
                         false);
   }
-  std::optional<std::string> token;
-  if (const auto authorization = header(request, http::field::authorization)) token = bearer_token(*authorization);
-  if (!token) token = query_parameter(target, "token");
-  const bool token_ok = server_.token_matches(token);
-  if (token && !token_ok) return respond_text(http::status::unauthorized, "wrong token", false);
-  boost::system::error_code ec;
-  const auto peer = stream_.tcp().socket().remote_endpoint(ec);
-  const bool trusted_local =
-      server_.config().trust_localhost && !ec && peer.address().is_loopback() && is_loopback_host(host);
-  const bool may_drive = token_ok || trusted_local;
+  const DriveRight right = drive_right(request);
+  if (right == DriveRight::wrong_token) return respond_text(http::status::unauthorized, "wrong token", false);
+  const bool may_drive = right == DriveRight::may_drive;
   if (!server_.viewer_slot_free()) {
     return respond_text(http::status::service_unavailable,
                         fmt::format("too many viewers (max_clients {})", server_.config().max_clients), false);
@@ -154,6 +153,67 @@ void HttpSession::upgrade(Request request) {
   auto viewer = std::make_shared<Viewer>(server_, std::move(stream_), may_drive, server_.next_session_id());
   server_.add_viewer(viewer);
   viewer->start(std::move(request));
+}
+
+HttpSession::DriveRight HttpSession::drive_right(const Request& request) {
+  const std::string_view target(request.target().data(), request.target().size());
+  std::optional<std::string> token;
+  if (const auto authorization = header(request, http::field::authorization)) token = bearer_token(*authorization);
+  if (!token) token = query_parameter(target, "token");
+  const bool token_ok = server_.token_matches(token);
+  if (token && !token_ok) return DriveRight::wrong_token;
+  boost::system::error_code ec;
+  const auto peer = stream_.tcp().socket().remote_endpoint(ec);
+  const bool trusted_local = server_.config().trust_localhost && !ec && peer.address().is_loopback() &&
+                             is_loopback_host(header(request, http::field::host).value_or(""));
+  return token_ok || trusted_local ? DriveRight::may_drive : DriveRight::read_only;
+}
+
+void HttpSession::safety(const Request& request, const std::string& method) {
+  const bool keep_alive = request.keep_alive();
+  if (request.method() != http::verb::post) {
+    return respond_text(http::status::method_not_allowed, fmt::format("/api/{} takes POST", method), keep_alive,
+                        "POST");
+  }
+  const auto refuse = [&](int code, std::string_view message) {
+    respond(static_cast<http::status>(http_status_of_rpc_error(code)), "application/json",
+            rpc_error_body(code, message).dump() + "\n", keep_alive);
+  };
+  client::Json params = nullptr;
+  if (method == "estop") {
+    auto parsed = estop_params(request.body());
+    if (const auto* problem = std::get_if<RequestProblem>(&parsed)) {
+      return refuse(error_codes::kInvalidParams, "estop: " + problem->message);
+    }
+    params = std::move(std::get<client::Json>(parsed));
+  } else {
+    const DriveRight right = drive_right(request);
+    if (right == DriveRight::wrong_token) return refuse(error_codes::kNotPermitted, "release: wrong token");
+    if (right == DriveRight::read_only) {
+      return refuse(error_codes::kNotPermitted, server_.driving_configured()
+                                                    ? "release needs the token (Authorization: Bearer TOKEN)"
+                                                    : "release needs the token, and wheeltec-web was started "
+                                                      "without --token-file");
+    }
+  }
+  server_.daemon_call(method, std::move(params),
+                      [self = shared_from_this(), keep_alive, method](boost::system::error_code ec,
+                                                                     const client::Json& answer) {
+                        if (!ec) return self->respond(http::status::ok, "application/json", answer.dump() + "\n",
+                                                      keep_alive);
+                        if (ec.category() != client::rpc_category()) {
+                          const client::Json body = rpc_error_body(
+                              error_codes::kDaemonUnreachable, method + " failed: " + self->daemon_problem(ec));
+                          return self->respond(http::status::service_unavailable, "application/json",
+                                               body.dump() + "\n", keep_alive);
+                        }
+                        client::Json body = answer.is_object() ? answer : rpc_error_body(ec.value(), ec.message());
+                        body["code"] = ec.value();
+                        self->respond(static_cast<http::status>(http_status_of_rpc_error(ec.value())),
+                                      "application/json",
+                                      body.dump(-1, ' ', false, client::Json::error_handler_t::replace) + "\n",
+                                      keep_alive);
+                      });
 }
 
 void HttpSession::relay(const Request& request, const DaemonRoute& route) {
@@ -176,6 +236,13 @@ void HttpSession::relay(const Request& request, const DaemonRoute& route) {
 
 void HttpSession::records(const Request& request, std::string_view path) {
   const bool keep_alive = request.keep_alive();
+  if (const auto messages = record_messages_name_in_path(path); messages && record_of_name(*messages)) {
+    if (request.method() != http::verb::get) {
+      return respond_text(http::status::method_not_allowed, fmt::format("{} takes GET", path.substr(0, 200)),
+                          keep_alive, "GET");
+    }
+    return record_messages(*messages, keep_alive);
+  }
   const auto name = record_name_in_path(path);
   if (name && !record_of_name(*name)) {
     return respond_text(http::status::not_found, fmt::format("no such recording: {}", name->substr(0, 200)),
@@ -185,13 +252,35 @@ void HttpSession::records(const Request& request, std::string_view path) {
     return respond_text(http::status::method_not_allowed, fmt::format("{} takes GET", path.substr(0, 200)), keep_alive,
                         "GET");
   }
-  if (name) return download(*name, keep_alive);
+  if (name) return download(*name, header(request, http::field::range), keep_alive);
   const DirectoryListing listing = list_directory(server_.config().record_dir);
   if (!listing.error.empty()) return respond_text(http::status::internal_server_error, listing.error, keep_alive);
   respond(http::status::ok, "application/json", recordings_json(recordings(listing.entries)), keep_alive);
 }
 
-void HttpSession::download(std::string_view name, bool keep_alive) {
+void HttpSession::record_messages(std::string_view name, bool keep_alive) {
+  const ReadRecord read = read_recording(server_.config().record_dir, name, kMaxMessagesFileBytes);
+  if (read.missing) {
+    return respond_text(http::status::not_found, fmt::format("no such recording: {}", name), keep_alive);
+  }
+  if (!read.error.empty()) return respond_text(http::status::internal_server_error, read.error, keep_alive);
+  if (read.too_large) {
+    return respond(http::status::payload_too_large, "application/json",
+                   record_error_json(name, fmt::format("the file is larger than the {} MiB the viewer reads; "
+                                                       "download it instead",
+                                                       kMaxMessagesFileBytes >> 20)),
+                   keep_alive);
+  }
+  const auto bytes = mcap::ByteView(reinterpret_cast<const std::byte*>(read.bytes.data()), read.bytes.size());
+  auto answer = record_messages_json(name, bytes);
+  if (const auto* unreadable = std::get_if<UnreadableRecord>(&answer)) {
+    return respond(http::status::unprocessable_entity, "application/json",
+                   record_error_json(name, "not a readable MCAP file: " + unreadable->problem), keep_alive);
+  }
+  respond(http::status::ok, "application/json", std::move(std::get<std::string>(answer)), keep_alive);
+}
+
+void HttpSession::download(std::string_view name, std::optional<std::string_view> range_header, bool keep_alive) {
   const OpenedRecord opened = open_recording(server_.config().record_dir, name);
   if (opened.missing) {
     return respond_text(http::status::not_found, fmt::format("no such recording: {}", name), keep_alive);
@@ -199,13 +288,38 @@ void HttpSession::download(std::string_view name, bool keep_alive) {
   if (opened.fd < 0) return respond_text(http::status::internal_server_error, opened.error, keep_alive);
   beast::file file;
   file.native_handle(opened.fd);
-  auto response = std::make_shared<FileResponse>(http::status::ok, request_version_);
   beast::error_code ec;
-  response->body().reset(std::move(file), ec);
+  const std::uint64_t file_size = file.size(ec);
   if (ec) {
     return respond_text(http::status::internal_server_error, fmt::format("{}: {}", name, ec.message()), keep_alive);
   }
+  const RangeAnswer range = range_of(range_header, file_size);
+  if (std::holds_alternative<RangeNotSatisfiable>(range)) {
+    auto response = std::make_shared<http::response<http::string_body>>(http::status::range_not_satisfiable,
+                                                                         request_version_);
+    set_common_headers(*response);
+    response->set(http::field::content_type, "text/plain; charset=utf-8");
+    response->set(http::field::content_range, unsatisfied_range(file_size));
+    response->set(http::field::accept_ranges, "bytes");
+    response->body() = fmt::format("{} has {} bytes: the range {} is outside it\n", name, file_size,
+                                   range_header->substr(0, 100));
+    response->keep_alive(keep_alive);
+    response->prepare_payload();
+    stream_.tcp().expires_after(kRequestTimeout);
+    return http::async_write(stream_, *response,
+                             [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
+                               self->written(ec, response->keep_alive());
+                             });
+  }
+  const auto* part = std::get_if<ByteRange>(&range);
+  auto response =
+      std::make_shared<FileResponse>(part ? http::status::partial_content : http::status::ok, request_version_);
+  response->body().file = std::move(file);
+  response->body().offset = part ? part->first : 0;
+  response->body().size = part ? part->size() : file_size;
   set_common_headers(*response);
+  response->set(http::field::accept_ranges, "bytes");
+  if (part) response->set(http::field::content_range, content_range(*part, file_size));
   response->set(http::field::content_type, "application/octet-stream");
   response->set(http::field::content_disposition, fmt::format("attachment; filename=\"{}\"", name));
   response->keep_alive(keep_alive);

@@ -66,4 +66,38 @@ OpenedRecord open_recording(const std::string& directory, std::string_view name)
   return opened;
 }
 
+ReadRecord read_recording(const std::string& directory, std::string_view name, std::uint64_t max_bytes) {
+  ReadRecord read;
+  const OpenedRecord opened = open_recording(directory, name);
+  if (opened.fd < 0) {
+    read.missing = opened.missing;
+    read.error = opened.error;
+    return read;
+  }
+  struct stat about {};
+  if (::fstat(opened.fd, &about) != 0) {
+    read.error = failure("cannot read " + directory + "/" + std::string(name), errno);
+  } else if (static_cast<std::uint64_t>(about.st_size) > max_bytes) {
+    read.too_large = true;
+  } else {
+    // Read up to one byte past the size fstat gave: a file that grew meanwhile is too large too.
+    read.bytes.resize(static_cast<std::size_t>(about.st_size) + 1);
+    std::size_t have = 0;
+    while (have < read.bytes.size()) {
+      const ssize_t got = ::read(opened.fd, read.bytes.data() + have, read.bytes.size() - have);
+      if (got < 0 && errno == EINTR) continue;
+      if (got < 0) {
+        read.error = failure("cannot read " + directory + "/" + std::string(name), errno);
+        break;
+      }
+      if (got == 0) break;
+      have += static_cast<std::size_t>(got);
+    }
+    if (have > max_bytes) read.too_large = true;
+    read.bytes.resize(have > max_bytes ? 0 : have);
+  }
+  ::close(opened.fd);
+  return read;
+}
+
 }  // namespace wheeltec::web

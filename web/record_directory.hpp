@@ -4,6 +4,7 @@
 // what lstat() says of them, and one recording opened for a download without following a
 // symlink. Which names count is record_files.hpp's.
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,5 +30,15 @@ struct OpenedRecord {
 };
 // `name` must be a recording's name (record_of_name): no '/' in it.
 OpenedRecord open_recording(const std::string& directory, std::string_view name);
+
+// A recording's bytes, read whole: as open_recording, plus `too_large` (nothing read) when
+// the file has more than `max_bytes`.
+struct ReadRecord {
+  std::string bytes;
+  bool missing = false;
+  bool too_large = false;
+  std::string error;
+};
+ReadRecord read_recording(const std::string& directory, std::string_view name, std::uint64_t max_bytes);
 
 }  // namespace wheeltec::web

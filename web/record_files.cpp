@@ -52,4 +52,11 @@ std::optional<std::string_view> record_name_in_path(std::string_view path) {
   return path.substr(kRecordsPath.size() + 1);
 }
 
+std::optional<std::string_view> record_messages_name_in_path(std::string_view path) {
+  constexpr std::string_view suffix = "/messages";
+  const auto name = record_name_in_path(path);
+  if (!name || !name->ends_with(suffix) || name->size() == suffix.size()) return std::nullopt;
+  return name->substr(0, name->size() - suffix.size());
+}
+
 }  // namespace wheeltec::web

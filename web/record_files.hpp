@@ -47,4 +47,7 @@ std::string recordings_json(const std::vector<RecordFile>& records);
 // no escape, so an escaped one is not a recording's); none for any other path.
 std::optional<std::string_view> record_name_in_path(std::string_view path);
 
+// "/api/records/NAME/messages" -> NAME, likewise; none for any other path.
+std::optional<std::string_view> record_messages_name_in_path(std::string_view path);
+
 }  // namespace wheeltec::web

@@ -8,6 +8,7 @@
 
 #include "wheeltec/service/logging.hpp"
 
+#include "safety_request.hpp"
 #include "server.hpp"
 #include "wheeltec/config/seconds.hpp"
 #include "wheeltec/error_codes.hpp"
@@ -23,14 +24,21 @@ constexpr std::size_t kMaxClientMessage = 64 * 1024;  // spec section 6: larger 
 constexpr std::size_t kMaxSubscriptions = 256;
 constexpr std::size_t kMaxClientChannels = 16;
 
-std::string refusal_text(boost::system::error_code ec, const client::Json& error) {
+// `what` is the request refused: "drive", "estop", "release".
+std::string refusal_text(std::string_view what, boost::system::error_code ec, const client::Json& error) {
   if (ec.category() == client::rpc_category()) {
     std::string message = error.is_object() ? error.value("message", ec.message()) : ec.message();
     if (ec.value() == error_codes::kControlHeld) message = "another client holds control: " + message;
     if (ec.value() == error_codes::kNotPermitted) message = "this user may not drive: " + message;
-    return fmt::format("drive refused ({}): {}", ec.value(), message);
+    return fmt::format("{} refused ({}): {}", what, ec.value(), message);
   }
-  return fmt::format("drive failed: wheeltecd: {}", ec.message());
+  return fmt::format("{} failed: wheeltecd: {}", what, ec.message());
+}
+
+std::string no_token_text(std::string_view what) {
+  return fmt::format("{} refused ({}): this viewer may not drive: it gave no valid token "
+                     "(Authorization: Bearer TOKEN or ?token=TOKEN)",
+                     what, error_codes::kNotPermitted);
 }
 
 }  // namespace
@@ -104,10 +112,11 @@ void Viewer::handle_text(std::string_view text) {
   }
   if (const auto* request = std::get_if<foxglove::ClientAdvertise>(&message)) {
     for (const auto& channel : request->channels) {
-      if (channel.topic != foxglove::kCmdVelTopic || channel.encoding != "json") {
+      if (!foxglove::client_publish_topic(channel.topic) || channel.encoding != "json") {
         send_status(foxglove::Level::error,
-                    fmt::format("cannot publish on \"{}\" ({}): only {} with json encoding",
-                                channel.topic.substr(0, 100), channel.encoding.substr(0, 20), foxglove::kCmdVelTopic),
+                    fmt::format("cannot publish on \"{}\" ({}): only {}, {} and {} with json encoding",
+                                channel.topic.substr(0, 100), channel.encoding.substr(0, 20), foxglove::kCmdVelTopic,
+                                foxglove::kEstopTopic, foxglove::kReleaseTopic),
                     "advertise");
         continue;
       }
@@ -165,29 +174,55 @@ void Viewer::handle_binary(std::string_view data) {
 }
 
 void Viewer::publish(const foxglove::ClientPublish& message) {
-  if (client_channels_.count(message.channel_id) == 0) {
+  const auto channel = client_channels_.find(message.channel_id);
+  if (channel == client_channels_.end()) {
     return send_status(foxglove::Level::error,
                        fmt::format("publish on client channel {}, which is not advertised", message.channel_id),
                        "publish");
   }
+  if (channel->second == foxglove::kEstopTopic) return estop(message.payload);
+  if (channel->second == foxglove::kReleaseTopic) return release();
   const auto velocity = foxglove::parse_cmd_vel(message.payload);
   if (const auto* error = std::get_if<foxglove::ProtocolError>(&velocity)) {
     return send_status(foxglove::Level::error, error->message, "drive-refused");
   }
-  if (!may_drive_) {
-    return send_status(foxglove::Level::error,
-                       fmt::format("drive refused ({}): this viewer may not drive: it gave no valid token "
-                                   "(Authorization: Bearer TOKEN or ?token=TOKEN)",
-                                   error_codes::kNotPermitted),
-                       "drive-refused");
-  }
+  if (!may_drive_) return send_status(foxglove::Level::error, no_token_text("drive"), "drive-refused");
   if (!drive_) drive_ = std::make_unique<client::OwnConnection>(server_.executor(), server_.config().socket);
   drive_->drive(std::get<client::Velocity>(velocity),
                 [weak = weak_from_this()](boost::system::error_code ec, const client::Json& result) {
                   const auto self = weak.lock();
                   if (!self || self->closed_ || !ec) return;
-                  self->send_status(foxglove::Level::error, refusal_text(ec, result), "drive-refused");
+                  self->send_status(foxglove::Level::error, refusal_text("drive", ec, result), "drive-refused");
                 });
+}
+
+// Like STOP, on the server's shared daemon connection: it is open whenever the daemon is
+// reachable, whatever this viewer's own connection is doing.
+void Viewer::estop(std::string_view payload) {
+  auto params = estop_params(payload);
+  if (const auto* problem = std::get_if<RequestProblem>(&params)) {
+    return send_status(foxglove::Level::error, fmt::format("estop refused: {}", problem->message), "estop-refused");
+  }
+  safety_call("estop", std::move(std::get<client::Json>(params)), "emergency stop latched");
+}
+
+void Viewer::release() {
+  if (!may_drive_) return send_status(foxglove::Level::error, no_token_text("release"), "release-refused");
+  safety_call("release", nullptr, "emergency stop released");
+}
+
+void Viewer::safety_call(const std::string& method, client::Json params, std::string_view done) {
+  server_.daemon_call(method, std::move(params),
+                      [weak = weak_from_this(), method, done = std::string(done)](boost::system::error_code ec,
+                                                                                  const client::Json& answer) {
+                        const auto self = weak.lock();
+                        if (!self || self->closed_) return;
+                        if (ec) {
+                          return self->send_status(foxglove::Level::error, refusal_text(method, ec, answer),
+                                                   method + "-refused");
+                        }
+                        self->send_status(foxglove::Level::info, done, method);
+                      });
 }
 
 bool Viewer::subscribed_to(foxglove::ChannelId channel) const {

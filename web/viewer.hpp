@@ -48,6 +48,11 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   void handle_binary(std::string_view data);
   void subscribe(const foxglove::Subscribe& request);
   void publish(const foxglove::ClientPublish& message);
+  // The emergency stop's topics: estop for anyone, release with the token.
+  void estop(std::string_view payload);
+  void release();
+  // `method` on the daemon; the answer as a Foxglove status ("estop", "estop-refused", ...).
+  void safety_call(const std::string& method, client::Json params, std::string_view done);
   void enqueue(OutgoingMessage message);
   void write_next();
   // A viewer dropped for not reading is logged apart from one that left: each has its limit.

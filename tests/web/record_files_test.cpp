@@ -66,6 +66,11 @@ TEST(RecordFiles, TheJsonNamesEachFieldAndAnEmptyListIsAList) {
 TEST(RecordFiles, TheNameOfADownloadPath) {
   EXPECT_EQ(record_name_in_path("/api/records/20261127T153012Z-deadman.mcap"), "20261127T153012Z-deadman.mcap");
   EXPECT_EQ(record_name_in_path("/api/records/"), "");
+  EXPECT_EQ(record_messages_name_in_path("/api/records/20261127T153012Z-deadman.mcap/messages"),
+            "20261127T153012Z-deadman.mcap");
+  EXPECT_EQ(record_messages_name_in_path("/api/records/20261127T153012Z-deadman.mcap"), std::nullopt);
+  EXPECT_EQ(record_messages_name_in_path("/api/records//messages"), std::nullopt);
+  EXPECT_EQ(record_messages_name_in_path("/api/records/messages"), std::nullopt);
   EXPECT_EQ(record_name_in_path("/api/records/../etc/passwd"), "../etc/passwd");  // then not a recording
   EXPECT_FALSE(record_name_in_path("/api/records"));  // the list
   EXPECT_FALSE(record_name_in_path("/api/recordsX/20261127T153012Z-deadman.mcap"));

@@ -22,6 +22,7 @@
 
 #include "loopback_tcp.hpp"
 #include "serial_web.hpp"
+#include "wheeltec/mcap/writer.hpp"
 
 namespace web_tests {
 namespace {
@@ -48,48 +49,12 @@ void write_file(const std::filesystem::path& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
 }
 
-struct HttpAnswer {
-  int status = 0;
-  std::string head;  // status line and headers
-  std::string body;
-  std::string rest;  // what followed the body (the next response on a kept-alive connection)
-};
-
-// One response off the front of `raw`, its body as long as Content-Length says.
-HttpAnswer parse_answer(const std::string& raw) {
-  HttpAnswer answer;
-  const auto end = raw.find("\r\n\r\n");
-  if (raw.rfind("HTTP/1.1 ", 0) != 0 || end == std::string::npos) {
-    answer.head = raw.substr(0, 300);
-    return answer;
-  }
-  answer.status = std::stoi(raw.substr(9, 3));
-  answer.head = raw.substr(0, end);
-  std::smatch length;
-  std::size_t size = raw.size() - end - 4;
-  if (std::regex_search(answer.head, length, std::regex("\r\nContent-Length: ([0-9]+)"))) {
-    size = std::min<std::size_t>(size, std::stoull(length[1]));
-  }
-  answer.body = raw.substr(end + 4, size);
-  answer.rest = raw.substr(end + 4 + size);
-  return answer;
-}
-
 // One request on a connection of its own; `headers` each end in CR LF.
 HttpAnswer http_request(const std::string& method, const std::string& target, const std::string& headers = "") {
-  return parse_answer(integration::loopback_exchange(
-      kRecordsPort,
-      method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" + headers + "Connection: close\r\n\r\n"));
+  return web_tests::http_request(kRecordsPort, method, target, headers);
 }
 HttpAnswer http_get(const std::string& target, const std::string& headers = "") {
   return http_request("GET", target, headers);
-}
-
-std::string header_line(const HttpAnswer& answer, const std::string& name) {
-  const auto at = answer.head.find("\r\n" + name + ": ");
-  if (at == std::string::npos) return "";
-  const auto start = at + 4 + name.size();
-  return answer.head.substr(start, answer.head.find("\r\n", start) - start);
 }
 
 class WebRecords : public SerialWebTest {
@@ -322,6 +287,124 @@ TEST_F(WebRecords, ThePageListsThemWithDownloadLinks) {
   EXPECT_EQ(links, (std::vector<std::string>{kContinuous, kDeadman, kBatteryLow})) << rows;
   EXPECT_NE(rows.find("<td>deadman</td><td>2.9 MB</td>"), std::string::npos) << rows;
   EXPECT_NE(rows.find("<td>battery-low</td><td>0 B</td>"), std::string::npos) << rows;
+}
+
+// Range on a download (spec section 14): one range is 206 with its bytes and Content-Range,
+// a range outside the file 416, several ranges or nonsense the whole file.
+TEST_F(WebRecords, ADownloadHonoursOneByteRange) {
+  start();
+  const std::string& bytes = contents_[kDeadman];
+  const std::string target = "/api/records/" + kDeadman;
+  const HttpAnswer whole = http_get(target);
+  EXPECT_EQ(header_line(whole, "Accept-Ranges"), "bytes");
+  const struct {
+    std::string range;
+    std::size_t first, size;
+  } cases[] = {{"bytes=0-99", 0, 100},
+               {"bytes=2999000-", 2999000, 1001},
+               {"bytes=-10", bytes.size() - 10, 10},
+               {"bytes=1000000-1999999", 1000000, 1000000},
+               {"bytes=2999990-9999999", 2999990, 11}};
+  for (const auto& c : cases) {
+    const HttpAnswer part = http_get(target, "Range: " + c.range + "\r\n");
+    ASSERT_EQ(part.status, 206) << c.range << "\n" << part.head;
+    EXPECT_EQ(header_line(part, "Content-Range"), "bytes " + std::to_string(c.first) + "-" +
+                                                      std::to_string(c.first + c.size - 1) + "/" +
+                                                      std::to_string(bytes.size()));
+    EXPECT_EQ(header_line(part, "Content-Length"), std::to_string(c.size));
+    EXPECT_TRUE(part.body == bytes.substr(c.first, c.size)) << c.range;
+  }
+  for (const std::string range : {"bytes=3000001-", "bytes=9999999-99999999", "bytes=-0"}) {
+    const HttpAnswer outside = http_get(target, "Range: " + range + "\r\n");
+    EXPECT_EQ(outside.status, 416) << range << "\n" << outside.head;
+    EXPECT_EQ(header_line(outside, "Content-Range"), "bytes */3000001") << range;
+  }
+  const HttpAnswer empty = http_get("/api/records/" + kBatteryLow, "Range: bytes=0-\r\n");
+  EXPECT_EQ(empty.status, 416) << empty.head;
+  for (const std::string range : {"bytes=0-1,5-9", "lines=1-2", "bytes=z-"}) {
+    const HttpAnswer all = http_get(target, "Range: " + range + "\r\n");
+    EXPECT_EQ(all.status, 200) << range;
+    EXPECT_EQ(all.body.size(), bytes.size()) << range;
+  }
+  // Kept alive across a 206 and a 416.
+  const HttpAnswer first = parse_answer(integration::loopback_exchange(
+      kRecordsPort, "GET " + target + " HTTP/1.1\r\nHost: x\r\nRange: bytes=5-9\r\n\r\n"
+                    "GET " + target + " HTTP/1.1\r\nHost: x\r\nRange: bytes=5000000-\r\n\r\n"
+                    "GET /api/records HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"));
+  EXPECT_EQ(first.status, 206);
+  EXPECT_TRUE(first.body == bytes.substr(5, 5));
+  const HttpAnswer second = parse_answer(first.rest);
+  EXPECT_EQ(second.status, 416) << second.head;
+  EXPECT_EQ(parse_answer(second.rest).status, 200);
+  ASSERT_TRUE(web_->running()) << web_logs();
+}
+
+// A recorder-shaped file (the project's MCAP writer, the recorder's channels and metadata).
+std::string recorder_shaped_file() {
+  using wheeltec::mcap::text_bytes;
+  wheeltec::mcap::Registry registry;
+  const auto schema = registry.add_schema("wheeltec.Telemetry", "jsonschema", text_bytes("{}"));
+  const auto telemetry = registry.add_channel(schema, "/telemetry", "json");
+  const auto status = registry.add_channel(schema, "/status", "json");
+  const auto events = registry.add_channel(schema, "/events", "json");
+  std::string out;
+  wheeltec::mcap::Writer writer(
+      [&out](wheeltec::mcap::ByteView bytes) { out.append(reinterpret_cast<const char*>(bytes.data()), bytes.size()); },
+      registry, {.library = "wheeltec-record 0.1.0", .chunk_size = 4096});
+  for (int i = 0; i < 200; ++i) {
+    const std::uint64_t t = 1'795'793'412'000'000'000ull + static_cast<std::uint64_t>(i) * 50'000'000ull;
+    writer.write_message(telemetry, t, t, text_bytes(R"({"seq":)" + std::to_string(i) + "}"));
+  }
+  writer.write_message(status, 1'795'793'412'000'000'000ull, 1'795'793'412'000'000'000ull, text_bytes(R"({"s":1})"));
+  writer.write_message(events, 1'795'793'415'000'000'000ull, 1'795'793'415'000'000'000ull,
+                       text_bytes(R"({"time":1795793415.0,"event":"deadman","client":3})"));
+  writer.write_metadata("wheeltec", {{"version", "0.1.0"}, {"triggers", R"([{"trigger":"deadman","time":1795793415.0}])"}});
+  writer.finish();
+  return out;
+}
+
+TEST_F(WebRecords, MessagesOfARecordingAsJsonAndWhatCannotBeReadAs422) {
+  const std::string good = "20261128T100000Z-deadman.mcap";
+  const std::string damaged = "20261128T110000Z-mark.mcap";
+  const std::string file = recorder_shaped_file();
+  write_file(records_ / good, file);
+  std::string broken = file;
+  broken[broken.size() / 2] ^= 0x40;
+  write_file(records_ / damaged, broken);
+  start();
+
+  const HttpAnswer answer = http_get("/api/records/" + good + "/messages");
+  ASSERT_EQ(answer.status, 200) << answer.head << answer.body.substr(0, 300);
+  EXPECT_EQ(header_line(answer, "Content-Type"), "application/json");
+  const nlohmann::json json = nlohmann::json::parse(answer.body, nullptr, false);
+  ASSERT_TRUE(json.is_object()) << answer.body.substr(0, 300);
+  EXPECT_EQ(json["name"], good);
+  EXPECT_EQ(json["metadata"]["triggers"], R"([{"trigger":"deadman","time":1795793415.0}])");
+  ASSERT_EQ(json["telemetry"].size(), 200u);
+  EXPECT_EQ(json["telemetry"][199]["seq"], 199);
+  EXPECT_EQ(json["status"], nlohmann::json::parse(R"([{"s":1}])"));
+  EXPECT_EQ(json["events"][0]["event"], "deadman");
+
+  for (const std::string& name : {damaged, kDeadman, kBatteryLow}) {  // damaged, random bytes, empty
+    const HttpAnswer refused = http_get("/api/records/" + name + "/messages");
+    EXPECT_EQ(refused.status, 422) << name << "\n" << refused.head;
+    EXPECT_EQ(header_line(refused, "Content-Type"), "application/json");
+    const nlohmann::json error = nlohmann::json::parse(refused.body, nullptr, false);
+    EXPECT_EQ(error["name"], name) << refused.body;
+    EXPECT_NE(error.value("error", "").find("not a readable MCAP file: byte "), std::string::npos) << refused.body;
+  }
+  // The download's names and 404s.
+  for (const std::string& target : {"/api/records/" + kPart + "/messages", "/api/records/" + kSymlink + "/messages",
+                                    "/api/records/" + kDirectory + "/messages",
+                                    std::string("/api/records/20261127T210000Z-deadman.mcap/messages"),
+                                    std::string("/api/records/../secret.txt/messages"),
+                                    "/api/records/" + good + "/messages/", "/api/records/" + good + "/other"}) {
+    const HttpAnswer missing = http_get(target);
+    EXPECT_EQ(missing.status, 404) << target << "\n" << missing.head;
+  }
+  const HttpAnswer post = http_request("POST", "/api/records/" + good + "/messages", "Content-Length: 0\r\n");
+  EXPECT_EQ(post.status, 405) << post.head;
+  ASSERT_TRUE(web_->running()) << web_logs();
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include "loopback_tcp.hpp"
 
 #include <fstream>
+#include <regex>
 #include <stdexcept>
 #include <thread>
 
@@ -50,10 +51,44 @@ TestCertificates make_test_certificates(const std::filesystem::path& directory) 
   return made;
 }
 
+HttpAnswer parse_answer(const std::string& raw) {
+  HttpAnswer answer;
+  const auto end = raw.find("\r\n\r\n");
+  if (raw.rfind("HTTP/1.1 ", 0) != 0 || end == std::string::npos) {
+    answer.head = raw.substr(0, 300);
+    return answer;
+  }
+  answer.status = std::stoi(raw.substr(9, 3));
+  answer.head = raw.substr(0, end);
+  std::smatch length;
+  std::size_t size = raw.size() - end - 4;
+  if (std::regex_search(answer.head, length, std::regex("\r\nContent-Length: ([0-9]+)"))) {
+    size = std::min<std::size_t>(size, std::stoull(length[1]));
+  }
+  answer.body = raw.substr(end + 4, size);
+  answer.rest = raw.substr(end + 4 + size);
+  return answer;
+}
+
+HttpAnswer http_request(int port, const std::string& method, const std::string& target, const std::string& headers,
+                        const std::string& body) {
+  const std::string length = body.empty() ? "" : "Content-Length: " + std::to_string(body.size()) + "\r\n";
+  return parse_answer(integration::loopback_exchange(
+      port, method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" + headers + length +
+                "Connection: close\r\n\r\n" + body));
+}
+
+std::string header_line(const HttpAnswer& answer, const std::string& name) {
+  const auto at = answer.head.find("\r\n" + name + ": ");
+  if (at == std::string::npos) return "";
+  const auto start = at + 4 + name.size();
+  return answer.head.substr(start, answer.head.find("\r\n", start) - start);
+}
+
 void SerialWebTest::SetUp() {
   SerialTest::SetUp();
   fake_->start_telemetry(20ms);
-  start_daemon_ready();
+  start_daemon_ready(daemon_options());
   token_file_ = directory_->path() / "token";
   std::ofstream(token_file_) << kToken << "\n";
   std::filesystem::permissions(token_file_,

@@ -34,9 +34,28 @@ struct TestCertificates {
 };
 TestCertificates make_test_certificates(const std::filesystem::path& directory);
 
+// An HTTP response as the tests read it off the wire.
+struct HttpAnswer {
+  int status = 0;
+  std::string head;  // status line and headers
+  std::string body;
+  std::string rest;  // what followed the body (the next response on a kept-alive connection)
+};
+
+// One response off the front of `raw`, its body as long as Content-Length says.
+HttpAnswer parse_answer(const std::string& raw);
+// One request to 127.0.0.1:port on a connection of its own; `headers` each end in CR LF.
+// A `body` is sent with its Content-Length.
+HttpAnswer http_request(int port, const std::string& method, const std::string& target,
+                        const std::string& headers = "", const std::string& body = "");
+// The value of header `name` in `answer`, "" when it has none.
+std::string header_line(const HttpAnswer& answer, const std::string& name);
+
 class SerialWebTest : public serial_tests::SerialTest {
  protected:
   void SetUp() override;
+  // The daemon SetUp starts (a suite may want another chassis).
+  virtual serial_tests::DaemonOptions daemon_options() const { return {}; }
   void TearDown() override;
 
   // wheeltec-web on 127.0.0.1:port with the token file and the page's sources, plus `extra`

@@ -1,6 +1,7 @@
 // wheeltec-web's page: a Foxglove WebSocket protocol client (the same protocol and server
 // code path as Foxglove itself) for the plots, the status and the joystick; plain HTTP for
-// STOP, the daemon's counters and the recorder's files. docs/web.md describes it.
+// STOP, E-STOP and Release, the daemon's counters and the recorder's files. docs/web.md
+// describes it.
 'use strict';
 
 const WINDOW_S = 30;            // plotted history
@@ -89,6 +90,48 @@ function onStatus(s) {
   $('enabled').textContent = yes(s.control.enabled);
   $('owner').textContent = s.control.owner === null ? 'nobody' : `client ${s.control.owner}`;
   commanded = s.control.target || { vx: 0, vy: 0, wz: 0 };
+  chassisType = s.chassis.type || null;
+  limits = s.control.limits || null;
+  safety = s.safety || null;
+  showSafety();
+}
+
+// --- the latched emergency stop (protocol 5): status `safety`, E-STOP and Release ---
+let safety = null;     // status `safety`; null from a daemon before protocol 5
+let readOnly = false;  // the server said this page may not drive
+function showSafety() {
+  const latched = Boolean(safety && safety.latched);
+  document.body.dataset.latched = String(latched);
+  $('safety').textContent = !safety ? '-' : latched ? `latched (${safety.source})` : 'not latched';
+  $('safety').className = latched ? 'bad' : '';
+  $('safety-banner').hidden = !latched;
+  $('release').hidden = !latched || readOnly;
+  if (!latched) return;
+  const by = safety.source === 'client' && safety.by !== null ? ` (client ${safety.by})` : '';
+  const since = safety.since ? new Date(safety.since * 1000) : null;
+  $('safety-text').textContent = `source: ${safety.source}${by}; reason: ${safety.reason ? safety.reason : '(none given)'}` +
+    (since ? `; since ${since.toLocaleString()}` : '');
+}
+// The answer of /api/estop or /api/release: {} or the daemon's error object with its code.
+async function safetyRequest(what, init) {
+  try {
+    const response = await fetch(`/api/${what}`, Object.assign({ method: 'POST' }, init));
+    const text = await response.text();
+    let answer = null;
+    try { answer = JSON.parse(text); } catch (error) { /* a plain-text refusal */ }
+    if (response.ok) { showMessage(0, `${what === 'estop' ? 'E-STOP' : 'Release'} sent`); return; }
+    const why = answer && answer.message ? `${answer.message} (${answer.code})` : text;
+    showMessage(2, `${what === 'estop' ? 'E-STOP' : 'Release'} refused: ${why}`);
+  } catch (error) {
+    showMessage(2, `${what === 'estop' ? 'E-STOP' : 'Release'} failed: ${error}`);
+  }
+}
+function estop(reason = 'operator pressed E-STOP') {
+  joystickRelease(false);
+  return safetyRequest('estop', { headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ reason }) });
+}
+function release() {
+  return safetyRequest('release', { headers: token ? { Authorization: `Bearer ${token}` } : {} });
 }
 
 function drawPath() {
@@ -155,7 +198,12 @@ function onText(msg) {
     ws.send(JSON.stringify({ op: 'advertise', channels: [{ id: cmdVelChannel, topic: '/wheeltec/cmd_vel',
       encoding: 'json', schemaName: 'wheeltec.CmdVel' }] }));
   } else if (msg.op === 'status') {
-    if (msg.id === 'read-only') { $('mode').textContent = 'read-only (no token): STOP only'; return; }
+    if (msg.id === 'read-only') {
+      readOnly = true;
+      $('mode').textContent = 'read-only (no token): STOP and E-STOP only';
+      showSafety();
+      return;
+    }
     if (msg.id === 'slow-viewer') droppedHere++;
     if (msg.id === 'drive-refused') { $('refusal').textContent = msg.message; joystickRelease(false); }
     showMessage(msg.level, msg.message);
@@ -229,6 +277,84 @@ function setupJoystick() {
   drawJoystick(0, 0);
 }
 
+// --- the gamepad (the Gamepad API, standard mapping; spec section 14) ---
+// Drives only while LB (button 4) is held, like teleop_twist_joy's deadman button; RB (5)
+// scales to the daemon's limits; B (1) is E-STOP. Any way the pad can go away, and the page
+// being hidden or closed, sends a `stop` at once instead of waiting for the deadman.
+const PAD_POLL_MS = 50;  // 20 polls a second; a held pad publishes on each
+const DEAD_ZONE = 0.1;
+const HOLONOMIC = new Set(['mecanum', 'omni']);
+let chassisType = null, limits = null;  // status chassis.type, control.limits (protocol 5)
+const pad = { index: null, id: null, driving: false, estopHeld: false };
+function connectedPad() {
+  const pads = navigator.getGamepads ? Array.from(navigator.getGamepads() || []) : [];
+  const usable = (p) => p && p.connected && p.mapping === 'standard';
+  if (pad.index !== null) return usable(pads[pad.index]) ? pads[pad.index] : null;
+  return pads.find(usable) || null;
+}
+function showPad(text) {
+  const line = $('gamepad');
+  line.textContent = text;
+  line.dataset.driving = String(pad.driving);
+  line.dataset.connected = String(pad.index !== null);
+}
+function padStop(why) {
+  if (!pad.driving) return;
+  pad.driving = false;
+  fetch('/api/stop', { method: 'POST', keepalive: true }).catch(() => {});
+  if (why) showMessage(0, `gamepad: stopped (${why})`);
+}
+function padLost(why) {
+  padStop(why);
+  if (pad.index !== null) showPad(`gamepad ${pad.id} gone (${why})`);
+  pad.index = null;
+  pad.id = null;
+  pad.estopHeld = false;
+}
+function padSpeeds(turbo) {
+  const limit = (axis, normal) => (limits && typeof limits[axis] === 'number'
+    ? (turbo ? limits[axis] : Math.min(normal, limits[axis])) : normal);
+  return { vx: limit('vx', MAX_VX), vy: limit('vy', MAX_VX), wz: limit('wz', MAX_WZ) };
+}
+function padAxis(p, i) {
+  const value = Number(p.axes[i] || 0);
+  return Math.abs(value) < DEAD_ZONE ? 0 : value;
+}
+function padPoll() {
+  const p = connectedPad();
+  if (!p) {
+    if (pad.index !== null) padLost('disconnected');
+    return;
+  }
+  if (pad.index === null) { pad.index = p.index; pad.id = p.id; }
+  const button = (i) => Boolean(p.buttons[i] && (p.buttons[i].pressed || p.buttons[i].value > 0.5));
+  if (button(1) && !pad.estopHeld) estop('gamepad');
+  pad.estopHeld = button(1);
+  if (!button(4) || document.hidden) {
+    padStop(document.hidden ? 'page hidden' : 'LB released');
+    showPad(`gamepad ${p.id}: idle${readOnly ? ' (read-only: driving needs the token)' : ' (hold LB to drive)'}`);
+    return;
+  }
+  if (readOnly) { showPad(`gamepad ${p.id}: read-only, driving needs the token`); return; }
+  const max = padSpeeds(button(5));
+  const round = (v) => Number(v.toFixed(3)) + 0;  // + 0: no -0
+  const v = { vx: round(-padAxis(p, 1) * max.vx), vy: HOLONOMIC.has(chassisType) ? round(-padAxis(p, 0) * max.vy) : 0,
+              wz: round(-padAxis(p, 2) * max.wz) };
+  pad.driving = true;
+  publishDrive(v);
+  showPad(`gamepad ${p.id}: driving vx ${v.vx} m/s, vy ${v.vy} m/s, wz ${v.wz} rad/s${button(5) ? ' (turbo)' : ''}`);
+}
+function setupGamepad() {
+  if (!navigator.getGamepads) { showPad('no Gamepad API in this browser'); return; }
+  window.addEventListener('gamepadconnected', () => padPoll());
+  window.addEventListener('gamepaddisconnected', (e) => {
+    if (e.gamepad && e.gamepad.index === pad.index) padLost('disconnected');
+  });
+  document.addEventListener('visibilitychange', () => { if (document.hidden) padStop('page hidden'); });
+  window.addEventListener('pagehide', () => padStop());
+  setInterval(padPoll, PAD_POLL_MS);
+}
+
 // --- STOP and the daemon's counters over HTTP ---
 async function stop() {
   joystickRelease(false);
@@ -285,14 +411,157 @@ async function pollRecords() {
       link.download = r.name;
       link.title = r.name;
       link.textContent = new Date(r.time * 1000).toLocaleString();
-      return tableRow(link, r.trigger, sizeText(r.bytes));
+      const view = document.createElement('a');
+      view.href = `#record=${encodeURIComponent(r.name)}`;
+      view.className = 'view';
+      view.textContent = 'view';
+      return tableRow(link, r.trigger, sizeText(r.bytes), view);
     }));
   } catch (error) { /* shown by the connection state */ }
 }
 
+// --- the incident viewer: one black-box file on the page (#record=NAME) ---
+// Commanded velocity comes from the file's events (a `drive` sets it; stops zero it), measured
+// velocity, battery and odometry from its telemetry; triggers (the metadata's) are marked.
+const ZEROING_EVENTS = new Set(['stop', 'deadman', 'estop', 'disable']);
+const incidentGraphs = {};
+let incidentMarkers = [];  // [{time (s), trigger}] for the plots' underlay
+function clockText(seconds) {
+  const d = new Date(seconds * 1000);
+  return `${d.toLocaleTimeString([], { hour12: false })}.${String(d.getMilliseconds()).padStart(3, '0')}`;
+}
+function eventDetails(e) {
+  return Object.entries(e).filter(([k]) => !['time', 'event', 'client'].includes(k))
+    .map(([k, v]) => `${k} ${typeof v === 'object' && v !== null ? JSON.stringify(v) : v}`).join(', ');
+}
+function parseTriggers(metadata) {
+  try {
+    const list = JSON.parse(metadata.triggers || '[]');
+    return Array.isArray(list) ? list.filter((t) => t && typeof t.time === 'number') : [];
+  } catch (error) { return []; }
+}
+function drawIncidentPath(telemetry) {
+  const canvas = $('incident-path'), g = canvas.getContext('2d');
+  g.clearRect(0, 0, canvas.width, canvas.height);
+  const points = telemetry.filter((r) => r.odom).map((r) => [r.odom.x, r.odom.y]);
+  if (!points.length) return;
+  let minX = Infinity, maxX = -Infinity, minY = Infinity, maxY = -Infinity;
+  for (const [x, y] of points) { minX = Math.min(minX, x); maxX = Math.max(maxX, x); minY = Math.min(minY, y); maxY = Math.max(maxY, y); }
+  const span = Math.max(maxX - minX, maxY - minY, 0.5) * 1.2, scale = canvas.width / span;
+  const cx = (minX + maxX) / 2, cy = (minY + maxY) / 2;
+  const px = (x) => canvas.width / 2 + (x - cx) * scale, py = (y) => canvas.height / 2 - (y - cy) * scale;
+  g.strokeStyle = '#36c'; g.lineWidth = 2; g.beginPath();
+  points.forEach(([x, y], i) => (i ? g.lineTo(px(x), py(y)) : g.moveTo(px(x), py(y))));
+  g.stroke();
+  g.fillStyle = '#2a2'; g.beginPath(); g.arc(px(points[0][0]), py(points[0][1]), 5, 0, 2 * Math.PI); g.fill();
+  g.fillStyle = '#d22'; g.beginPath(); g.arc(px(points.at(-1)[0]), py(points.at(-1)[1]), 5, 0, 2 * Math.PI); g.fill();
+}
+function markTriggers(canvas, area, graph) {
+  canvas.fillStyle = 'rgba(220, 0, 0, 0.7)';
+  for (const marker of incidentMarkers) {
+    const x = graph.toDomXCoord(new Date(marker.time * 1000));
+    if (x >= area.x && x <= area.x + area.w) canvas.fillRect(x - 1, area.y, 2, area.h);
+  }
+}
+function showIncident(file) {
+  const box = $('incident');
+  const telemetry = file.telemetry || [], events = (file.events || []).slice().sort((a, b) => a.time - b.time);
+  const triggers = parseTriggers(file.metadata || {});
+  incidentMarkers = triggers;
+  const m = file.metadata || {};
+  $('incident-state').textContent = `${telemetry.length} records, ${events.length} events, ${(file.status || []).length} status` +
+    (m.chassis ? `; chassis ${m.chassis}` : '') + (m.transport ? `, ${m.transport} ${m.device || ''}` : '') +
+    (m.version ? `, wheeltecd ${m.version}` : '');
+  $('incident-triggers').textContent = triggers.length
+    ? 'triggers: ' + triggers.map((t) => `${t.trigger} at ${clockText(t.time)}`).join(', ') : 'no triggers';
+  // Commanded velocity at each record's time: the last drive before it, zero after a stop.
+  let next = 0, commandedNow = { vx: 0, vy: 0, wz: 0 };
+  const rows = { vx: [], vy: [], wz: [], battery: [] };
+  for (const r of telemetry) {
+    while (next < events.length && events[next].time <= r.time) {
+      const e = events[next++];
+      if (e.event === 'drive') commandedNow = { vx: e.vx || 0, vy: e.vy || 0, wz: e.wz || 0 };
+      else if (ZEROING_EVENTS.has(e.event)) commandedNow = { vx: 0, vy: 0, wz: 0 };
+    }
+    const t = new Date(r.time * 1000), v = r.velocity || {};
+    rows.vx.push([t, commandedNow.vx, v.vx]);
+    rows.vy.push([t, commandedNow.vy, v.vy]);
+    rows.wz.push([t, commandedNow.wz, v.wz]);
+    rows.battery.push([t, r.battery ? r.battery.voltage : null]);
+  }
+  if (typeof Dygraph !== 'undefined' && telemetry.length) {
+    const labels = { vx: ['t', 'vx commanded', 'vx measured'], vy: ['t', 'vy commanded', 'vy measured'],
+                     wz: ['t', 'wz commanded', 'wz measured'], battery: ['t', 'battery'] };
+    const titles = { vx: 'vx (m/s)', vy: 'vy (m/s)', wz: 'wz (rad/s)', battery: 'battery (V)' };
+    for (const id of Object.keys(rows)) {
+      if (incidentGraphs[id]) incidentGraphs[id].destroy();
+      incidentGraphs[id] = new Dygraph($(`incident-${id}`), rows[id], { labels: labels[id], title: titles[id],
+        legend: 'always', titleHeight: 18, strokeWidth: 1.5, underlayCallback: markTriggers });
+    }
+  }
+  drawIncidentPath(telemetry);
+  // The events and triggers as one list, on the plots' time axis.
+  const start = telemetry.length ? telemetry[0].time : (events.length ? events[0].time : 0);
+  const items = events.map((e) => ({ time: e.time, kind: e.event, client: e.client, details: eventDetails(e) }))
+    .concat(triggers.map((t) => ({ time: t.time, kind: `trigger: ${t.trigger}`, client: null, details: '', trigger: true })))
+    .sort((a, b) => a.time - b.time);
+  const table = $('incident-events');
+  table.replaceChildren(tableRow('time', 'event', 'client', 'keys'), ...items.map((item) => {
+    const row = tableRow(`${clockText(item.time)} (${(item.time - start >= 0 ? '+' : '')}${(item.time - start).toFixed(2)} s)`,
+      item.kind, item.client === null || item.client === undefined ? '-' : String(item.client), item.details);
+    if (item.trigger) row.className = 'trigger';
+    return row;
+  }));
+  box.dataset.state = 'shown';
+  box.dataset.telemetry = String(telemetry.length);
+  box.dataset.events = String(events.length);
+  box.dataset.triggers = String(triggers.length);
+}
+async function openIncident(name) {
+  const box = $('incident');
+  box.hidden = false;
+  box.dataset.state = 'loading';
+  box.dataset.name = name;
+  $('incident-title').textContent = name;
+  $('incident-download').href = `/api/records/${encodeURIComponent(name)}`;
+  $('incident-download').download = name;
+  $('incident-state').textContent = 'loading…';
+  $('incident-triggers').textContent = '';
+  $('incident-events').replaceChildren();
+  try {
+    const response = await fetch(`/api/records/${encodeURIComponent(name)}/messages`);
+    const text = await response.text();
+    let answer = null;
+    try { answer = JSON.parse(text); } catch (error) { /* a plain-text 404 */ }
+    if (box.dataset.name !== name) return;  // another one was opened meanwhile
+    if (!response.ok) {
+      $('incident-state').textContent = `cannot show ${name}: ${answer && answer.error ? answer.error : text.trim()}`;
+      box.dataset.state = 'error';
+      return;
+    }
+    showIncident(answer);
+    box.scrollIntoView();
+  } catch (error) {
+    $('incident-state').textContent = `cannot show ${name}: ${error}`;
+    box.dataset.state = 'error';
+  }
+}
+function incidentFromHash() {
+  const match = location.hash.match(/^#record=(.+)$/);
+  if (match) { openIncident(decodeURIComponent(match[1])); return; }
+  $('incident').hidden = true;
+  delete $('incident').dataset.name;
+}
+$('incident-close').addEventListener('click', () => { history.replaceState(null, '', location.pathname + location.search); incidentFromHash(); });
+window.addEventListener('hashchange', incidentFromHash);
+incidentFromHash();
+
 makeGraphs();
 setupJoystick();
+setupGamepad();
 $('stop').addEventListener('click', stop);
+$('estop').addEventListener('click', () => estop());
+$('release').addEventListener('click', release);
 connect();
 pollStats();
 setInterval(pollStats, 2000);

@@ -217,6 +217,72 @@ async function secondDriver() {
   done(result.first.length === 0 && result.second.some((m) => m.includes('-32001')));
 }
 
-const modes = { watch, 'second-driver': secondDriver, live, drive: live, 'read-only': readOnly, origins, malformed, oversized, 'never-reads': neverReads };
+// The emergency stop's topics (spec section 12): a viewer without the token latches it on
+// /wheeltec/estop and may not release it; a driver with the token (TOKEN) is refused while
+// latched (-32007), releases it on /wheeltec/release and drives again. Each status message's
+// `safety` is kept, so the test sees the latch as the channel showed it.
+async function estopRelease() {
+  const driver = await foxglove(withToken(url));
+  const viewer = await foxglove(url);
+  const safeties = [];
+  viewer.client.on('message', ({ data }) => {
+    const status = JSON.parse(new TextDecoder().decode(data));
+    if (status.safety) safeties.push(status.safety);
+  });
+  viewer.client.subscribe(viewer.channels.get('/wheeltec/status').id);
+  const advertise = (c, topic) => c.client.advertise({ topic, encoding: 'json', schemaName: 'wheeltec.Any' });
+  const send = (c, channel, object) => c.client.sendMessage(channel, new TextEncoder().encode(JSON.stringify(object)));
+  const waitStatus = async (c, predicate) => {
+    for (let i = 0; i < 50; ++i) {
+      const found = c.statuses.find(predicate);
+      if (found) return found;
+      await sleep(100);
+    }
+    return null;
+  };
+  const errors = (c) => c.statuses.filter((s) => s.level === 2).map((s) => s.message);
+  const cmdVel = advertise(driver, '/wheeltec/cmd_vel');
+  const driverRelease = advertise(driver, '/wheeltec/release');
+  const viewerEstop = advertise(viewer, '/wheeltec/estop');
+  const viewerRelease = advertise(viewer, '/wheeltec/release');
+  const drive = async (ms) => {
+    for (const start = Date.now(); Date.now() - start < ms;) { send(driver, cmdVel, { vx: 0.3 }); await sleep(100); }
+  };
+  await drive(800);
+  result.errors_before = errors(driver);
+
+  send(viewer, viewerEstop, { reason: 'foxglove viewer' });
+  const latched = await waitStatus(viewer, (s) => s.id === 'estop' || s.id === 'estop-refused');
+  result.estop_status = latched;
+  for (let i = 0; i < 30 && !safeties.some((s) => s.latched); ++i) await sleep(100);
+  result.safety_latched = safeties.find((s) => s.latched) || null;
+
+  await drive(500);
+  result.drive_refused = errors(driver).find((m) => m.includes('-32007')) || null;
+
+  send(viewer, viewerRelease, {});
+  result.viewer_release = await waitStatus(viewer, (s) => s.id === 'release' || s.id === 'release-refused');
+  await sleep(300);
+  result.latched_after_viewer_release = safeties.at(-1) ? safeties.at(-1).latched : null;
+
+  send(driver, driverRelease, {});
+  result.driver_release = await waitStatus(driver, (s) => s.id === 'release' || s.id === 'release-refused');
+  for (let i = 0; i < 30 && safeties.at(-1).latched; ++i) await sleep(100);
+  result.latched_after_release = safeties.at(-1).latched;
+
+  const before = errors(driver).length;
+  await drive(800);
+  result.errors_after_release = errors(driver).slice(before);
+  driver.client.close();
+  viewer.client.close();
+  done(Boolean(latched && latched.id === 'estop' && result.safety_latched && result.drive_refused &&
+               result.viewer_release && result.viewer_release.id === 'release-refused' &&
+               result.viewer_release.message.includes('-32005') && result.latched_after_viewer_release === true &&
+               result.driver_release && result.driver_release.id === 'release' &&
+               result.latched_after_release === false && result.errors_after_release.length === 0 &&
+               result.errors_before.length === 0));
+}
+
+const modes = { 'estop-release': estopRelease, watch, 'second-driver': secondDriver, live, drive: live, 'read-only': readOnly, origins, malformed, oversized, 'never-reads': neverReads };
 if (!modes[mode]) done(false, `unknown mode ${mode}`);
 modes[mode]().catch((error) => done(false, String(error && error.stack || error)));
