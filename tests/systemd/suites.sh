@@ -7,14 +7,19 @@
 #   suites.sh NAME:SECONDS...
 #
 # Each NAME.sh (this directory) runs with a time limit of SECONDS and its output labelled
-# "[NAME] ". Before each, a reset gives it what a fresh session would: the services
-# stopped, the package purged (its configuration, enablement and the bridges' /etc and
-# /var/lib directories with it), the users and groups made since the session started
-# removed (the package's wheeltec too, which a fresh machine does not have), the journal
-# emptied, and then the package installed with dpkg -i, as systemd-uml does; lifecycle,
-# which installs the package itself, gets it not installed. A suite's leftover processes
-# (its process group) are killed when it ends. $WHEELTEC_SYSTEMD_ONLY (names, space- or
-# comma-separated) runs only those. Exits 1 if any suite failed, naming each.
+# "[NAME] ", from the state a fresh session would give it. lifecycle, which installs the
+# package itself, gets the machine as booted: before it the package is purged, and the
+# users and groups made since the boot (the package's wheeltec too), the bridges' /etc and
+# /var/lib directories and the journal are removed. Every other suite gets the package
+# freshly installed with dpkg -i, as systemd-uml installs it: after the one install (the
+# first suite that needs it) the state the suites change is saved, and before each later
+# suite restored: the services stopped and disabled, the users and groups made since
+# removed, the account files, /etc/wheeltecd (the conffile) and the package's state put
+# back, /etc/wheeltec-*, /var/lib/wheeltec* (the latch's state file too) and /run/wheeltec*
+# emptied, the journal emptied. A suite that changes the installed package gets a purge and
+# a new install instead. A suite's leftover processes (its process group) are killed when it
+# ends. $WHEELTEC_SYSTEMD_ONLY (names, space- or comma-separated) runs only those. Exits 1
+# if any suite failed, naming each.
 set -uo pipefail
 : "${SYSTEMD_UML_DEB:?the package to install (run inside scripts/systemd-uml)}"
 
@@ -26,7 +31,8 @@ readonly UNITS=(wheeltec-web.service wheeltec-mqtt.service wheeltec-ros2.service
 say() { echo "systemd-suites: $*"; }
 ms_since() { echo $((($(date +%s%N) - $1) / 1000000)); }
 
-only=" ${WHEELTEC_SYSTEMD_ONLY//,/ } "
+only=" ${WHEELTEC_SYSTEMD_ONLY:-} "
+only=${only//,/ }
 suites=()
 for entry in "$@"; do
   [[ $entry =~ ^[a-z0-9-]+:[0-9]+$ ]] || { say "bad suite '$entry' (NAME:SECONDS)"; exit 2; }
@@ -35,33 +41,91 @@ for entry in "$@"; do
 done
 ((${#suites[@]})) || { say "no suite to run"; exit 2; }
 
-# What the session had before any suite: the users and groups to keep.
-base_users=$(getent passwd | cut -d: -f1 | sort)
-base_groups=$(getent group | cut -d: -f1 | sort)
+work=$(mktemp -d /tmp/systemd-suites.XXXXXX)
+trap 'rm -rf -- "$work"' EXIT
+# What a suite may change that a fresh install has: the account files and the conffile.
+readonly SAVED=(etc/passwd etc/group etc/shadow etc/gshadow etc/subuid etc/subgid etc/wheeltecd)
+user_names() { getent passwd | cut -d: -f1 | sort; }
+group_names() { getent group | cut -d: -f1 | sort; }
+package_state() { dpkg-query -W -f='${db:Status-Status} ${Version}' "$PACKAGE" 2>/dev/null; }
+installed() { [[ $(package_state) == installed* ]]; }
+# The users and groups of the booted machine.
+user_names >"$work/boot.users"
+group_names >"$work/boot.groups"
+saved_state=
 
-# reset: the state of a freshly booted session, the package not installed.
-reset() {
-  systemctl stop "${UNITS[@]}" 2>/dev/null
-  systemctl disable "${UNITS[@]}" 2>/dev/null
-  systemctl reset-failed 2>/dev/null
-  if dpkg-query -W -f='${db:Status-Status}' "$PACKAGE" 2>/dev/null | grep -qv '^not-installed$'; then
-    DEBIAN_FRONTEND=noninteractive dpkg -P "$PACKAGE" >/dev/null || { say "dpkg -P $PACKAGE failed"; return 1; }
-  fi
+# remove_accounts USERS GROUPS: removes the users and groups not listed in the files, with
+# their processes, homes and mail.
+remove_accounts() {
   local name
-  for name in $(comm -13 <(echo "$base_users") <(getent passwd | cut -d: -f1 | sort)); do
+  for name in $(comm -13 "$1" <(user_names)); do
+    ps -o pid= -u "$name" 2>/dev/null | xargs -r kill -KILL 2>/dev/null
     userdel -r -f "$name" >/dev/null 2>&1  # exit 12 for a home that is not there (/nonexistent)
     ! getent passwd "$name" >/dev/null || { say "cannot remove user $name"; return 1; }
   done
-  for name in $(comm -13 <(echo "$base_groups") <(getent group | cut -d: -f1 | sort)); do
+  for name in $(comm -13 "$2" <(group_names)); do
     groupdel "$name" || { say "cannot remove group $name"; return 1; }
   done
-  rm -rf /etc/wheeltec* /var/lib/wheeltec* /run/wheeltec* /var/lib/private/wheeltec*
-  systemctl daemon-reload
+}
+# timed WHAT COMMAND...: runs COMMAND, adding "WHAT N ms" to $steps (the setup's breakdown).
+steps=
+timed() {
+  local what=$1 begun status
+  shift
+  begun=$(date +%s%N)
+  "$@"
+  status=$?
+  steps+="${steps:+, }$what $(ms_since "$begun") ms"
+  return "$status"
+}
+# stop_services: the package's services stopped, their failed state and restart counts
+# reset, and disabled (the links `systemctl enable` made removed, then one daemon-reload:
+# what `systemctl disable` does, without a reload per unit).
+stop_services() {
+  systemctl stop "${UNITS[@]}" 2>/dev/null
+  systemctl reset-failed "${UNITS[@]}" 2>/dev/null
+  local links
+  links=$(find /etc/systemd/system -name 'wheeltec*' -type l -print -delete 2>/dev/null)
+  [[ -z $links ]] || systemctl daemon-reload
+}
+forget_runtime() {
+  rm -rf /etc/wheeltec-* /var/lib/wheeltec* /run/wheeltec* /var/lib/private/wheeltec*
   journalctl --rotate --vacuum-time=1s >/dev/null 2>&1
 }
 
-install_package() {
-  DEBIAN_FRONTEND=noninteractive dpkg -i "$SYSTEMD_UML_DEB" >/dev/null || { say "dpkg -i failed"; return 1; }
+# as_booted: the package purged, the machine as booted (nothing to do before the first suite).
+booted=1
+as_booted() {
+  ((booted)) && return 0
+  timed stop stop_services
+  if [[ -n $(package_state) && $(package_state) != not-installed* ]]; then
+    timed "dpkg -P" env DEBIAN_FRONTEND=noninteractive dpkg -P "$PACKAGE" >/dev/null ||
+      { say "dpkg -P $PACKAGE failed"; return 1; }
+  fi
+  timed accounts remove_accounts "$work/boot.users" "$work/boot.groups" || return 1
+  rm -rf /etc/wheeltecd
+  timed forget forget_runtime
+  saved_state=
+  booted=1
+}
+# freshly_installed: the state right after dpkg -i on the booted machine.
+freshly_installed() {
+  if [[ -n $saved_state && $(package_state) == "$saved_state" ]]; then
+    timed stop stop_services
+    timed accounts remove_accounts "$work/installed.users" "$work/installed.groups" || return 1
+    rm -rf /etc/wheeltecd
+    timed files tar -C / -xpf "$work/installed.tar" || { say "cannot restore the saved state"; return 1; }
+    timed forget forget_runtime
+    return
+  fi
+  as_booted || return 1
+  timed "dpkg -i" env DEBIAN_FRONTEND=noninteractive dpkg -i "$SYSTEMD_UML_DEB" >/dev/null ||
+    { say "dpkg -i failed"; return 1; }
+  booted=0
+  user_names >"$work/installed.users"
+  group_names >"$work/installed.groups"
+  tar -C / -cpf "$work/installed.tar" --ignore-failed-read "${SAVED[@]}" 2>/dev/null
+  saved_state=$(package_state)
 }
 
 # run_suite NAME SECONDS: NAME.sh with its output labelled; its exit status (124: timed out).
@@ -82,37 +146,33 @@ for entry in "${suites[@]}"; do
   name=${entry%%:*} limit=${entry##*:}
   say "---- $name (time limit $limit s)"
   started=$(date +%s%N)
-  if ! reset; then
-    say "$name: FAILED (the reset before it failed)"
-    failed+=("$name") results+=("$name FAILED (reset)")
+  steps=
+  if [[ $name == lifecycle ]]; then state=as_booted; else state=freshly_installed; fi
+  if [[ $state == as_booted ]]; then setup="the machine as booted"
+  elif [[ -n $saved_state && $(package_state) == "$saved_state" ]]; then setup="the installed state restored"
+  else setup="freshly installed"; fi
+  if ! "$state"; then
+    say "$name: FAILED (could not prepare $setup)"
+    failed+=("$name") results+=("$name FAILED (setup)")
     continue
   fi
-  setup="reset $(ms_since "$started") ms"
-  if [[ $name != lifecycle ]]; then
-    installing=$(date +%s%N)
-    if ! install_package; then
-      say "$name: FAILED (dpkg -i before it failed)"
-      failed+=("$name") results+=("$name FAILED (dpkg -i)")
-      continue
-    fi
-    setup+=", dpkg -i $(ms_since "$installing") ms"
-  fi
+  setup+=" in $(ms_since "$started") ms${steps:+ ($steps)}"
   say "$name: $setup"
   running=$(date +%s%N)
   run_suite "$name" "$limit"
   status=$?
+  booted=0
   took="$(awk -v ms="$(ms_since "$running")" 'BEGIN { printf "%.1f", ms / 1000 }') s"
   case $status in
     0) verdict=passed ;;
     124) verdict="FAILED (timed out after $limit s)" ;;
     *) verdict="FAILED (exit $status)" ;;
   esac
-  say "$name: $verdict in $took ($setup)"
-  results+=("$name $verdict, $took")
+  say "$name: $verdict in $took (before it: $setup)"
+  results+=("$name $verdict in $took (before it: $setup)")
   ((status == 0)) || failed+=("$name")
 done
 
-reset >/dev/null 2>&1
 say "==== results"
 for line in "${results[@]}"; do say "  $line"; done
 if ((${#failed[@]})); then
