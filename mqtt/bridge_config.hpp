@@ -10,7 +10,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "wheeltec/config/config.hpp"  // ConfigError
+#include "wheeltec/config/config_document.hpp"  // ConfigError
 
 namespace wheeltec::mqtt {
 

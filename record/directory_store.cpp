@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "wheeltec/config/config.hpp"
+#include "wheeltec/config/config_document.hpp"
 
 #include "file_names.hpp"
 

@@ -13,7 +13,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "wheeltec/config/config.hpp"  // ConfigError
+#include "wheeltec/config/config_document.hpp"  // ConfigError
 
 #include "battery.hpp"
 

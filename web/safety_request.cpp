@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "wheeltec/error_codes.hpp"
-#include "wheeltec/json_text.hpp"
+#include "wheeltec/config/json_text.hpp"
 
 namespace wheeltec::web {
 namespace {

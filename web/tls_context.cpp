@@ -8,7 +8,7 @@
 #include <boost/system/system_error.hpp>
 #include <fmt/format.h>
 
-#include "wheeltec/config/config.hpp"
+#include "wheeltec/config/config_document.hpp"
 #include "wheeltec/service/config_file.hpp"
 
 namespace wheeltec::web {

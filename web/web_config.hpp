@@ -9,7 +9,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "wheeltec/config/config.hpp"  // ConfigError
+#include "wheeltec/config/config_document.hpp"  // ConfigError
 #include "wheeltec/config/config_checks.hpp"
 
 #include "access.hpp"

@@ -61,7 +61,7 @@ void ControlLoop::start() {
   // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
   send_frame();
   ports_.stall_guard.start();
-  if (config_.control.auto_enable) enable();
+  if (config_.control.auto_enable) enable(EnableRequest::at_start);
 }
 
 DriveResult ControlLoop::drive(ClientId client, const Velocity& target) {
@@ -82,8 +82,8 @@ void ControlLoop::stop() {
   may_have_changed();
 }
 
-EnableOutcome ControlLoop::enable() {
-  const EnableOutcome outcome = supervisor_.enable();
+EnableOutcome ControlLoop::enable(EnableRequest request) {
+  const EnableOutcome outcome = supervisor_.enable(request);
   if (outcome == EnableOutcome::already_enabled) send_enable(true);
   if (outcome != EnableOutcome::enabled) return outcome;
   spdlog::info("control enabled");

@@ -45,7 +45,7 @@ class ControlLoop {
 
   DriveResult drive(ClientId client, const Velocity& target);
   void stop();                        // zero now, release control (from any client)
-  EnableOutcome enable();             // enable frame, periodic frames start
+  EnableOutcome enable(EnableRequest request = EnableRequest::client);  // enable frame, periodic frames start
   void disable();                     // zero, then disable frame, periodic frames stop
   // The emergency stop: zero now (even when it already was), control released, the latch
   // kept in the state file, the event; false when already latched (nothing changes).

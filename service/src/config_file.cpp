@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "wheeltec/config/config.hpp"
+#include "wheeltec/config/config_document.hpp"
 
 namespace wheeltec::service {
 

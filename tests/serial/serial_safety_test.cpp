@@ -128,12 +128,16 @@ TEST_F(SerialSafety, TheLatchOutlivesSigkillAndARestart) {
   const Json status = again.call("status");
   EXPECT_EQ(status["safety"], latched) << "the same source, reason, since and by";
   EXPECT_EQ(error_code(again.request("drive", {{"vx", 0.3}})), kLatched);
+  EXPECT_EQ(status["control"]["enabled"], true) << "held by zero frames, as at any start: " << status.dump();
   const std::size_t from = fake_->command_count();
   std::this_thread::sleep_for(300ms);
   const auto frames = fake_->commands();
+  EXPECT_GE(frames.size() - from, 4u) << "zero frames at the rate while latched";
   for (std::size_t i = from; i < frames.size(); ++i) EXPECT_TRUE(frames[i].zero()) << frames[i].text();
 
   EXPECT_EQ(again.request("release")["result"], Json::object());
+  EXPECT_TRUE(drives(again, *fake_, 0.3)) << "after release the next drive moves it\n" << logs();
+  again.call("stop");
   second.process().terminate();
   SerialDaemon& third = start_daemon_ready(with_state_file(state_file, "third"));
   EXPECT_EQ(third.connect().call("status")["safety"]["latched"], false) << "a release is kept too";

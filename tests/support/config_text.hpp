@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/config/config.hpp"
+#include "wheeltec/config/config_document.hpp"
 
 #include <string>
 

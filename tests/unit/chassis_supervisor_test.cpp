@@ -20,7 +20,7 @@ class ChassisSupervisorTest : public ::testing::Test {
     supervisor_.link_changed(LinkState::up);
     supervisor_.start();
     supervisor_.frame_sent(ControlCommand{}, kStart);
-    supervisor_.enable();
+    supervisor_.enable(EnableRequest::client);
   }
 
   // A record `at` after kStart (steady) with the same offset on the record clock.
@@ -39,12 +39,12 @@ TEST(ChassisSupervisorModes, StartAwaitsTheFirstZeroThenEnables) {
   EXPECT_EQ(supervisor.mode(), ControlMode::awaiting_first_zero);
   supervisor.frame_sent(ControlCommand{}, kStart);
   EXPECT_EQ(supervisor.mode(), ControlMode::disabled);
-  EXPECT_EQ(supervisor.enable(), EnableOutcome::enabled);
-  EXPECT_EQ(supervisor.enable(), EnableOutcome::already_enabled);
+  EXPECT_EQ(supervisor.enable(EnableRequest::client), EnableOutcome::enabled);
+  EXPECT_EQ(supervisor.enable(EnableRequest::client), EnableOutcome::already_enabled);
   EXPECT_TRUE(supervisor.disable());
   EXPECT_FALSE(supervisor.disable());
   supervisor.shut_down();
-  EXPECT_EQ(supervisor.enable(), EnableOutcome::unavailable) << "nothing after shutdown";
+  EXPECT_EQ(supervisor.enable(EnableRequest::client), EnableOutcome::unavailable) << "nothing after shutdown";
 }
 
 TEST_F(ChassisSupervisorTest, DriveIsQuantizedClampedAndOwned) {
@@ -117,7 +117,7 @@ TEST_F(ChassisSupervisorTest, RefusalsComeInTheContractsOrder) {
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, DriveRefusal::link_down);
   supervisor_.link_changed(LinkState::up);
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, DriveRefusal::control_disabled);
-  supervisor_.enable();
+  supervisor_.enable(EnableRequest::client);
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart + 1s).refusal, std::nullopt);
 }
 
@@ -177,6 +177,22 @@ TEST_F(ChassisSupervisorTest, ShutDownZeroesAndRefusesDrives) {
   supervisor_.shut_down();
   EXPECT_EQ(supervisor_.target(), Velocity{});
   EXPECT_EQ(supervisor_.drive(kAlice, kForward, kStart).refusal, DriveRefusal::control_disabled);
+}
+
+}  // namespace
+}  // namespace wheeltec
+
+namespace wheeltec {
+namespace {
+
+TEST(ChassisSupervisorLatch, TheLatchHoldsOffAClientsEnableButNotTheStartsOwn) {
+  for (const EnableRequest request : {EnableRequest::client, EnableRequest::at_start}) {
+    ChassisSupervisor supervisor(SupervisorSettings{});
+    supervisor.restore(Latch{LatchSource::client, "", kEpoch, kAlice});
+    supervisor.start();
+    EXPECT_EQ(supervisor.enable(request),
+              request == EnableRequest::client ? EnableOutcome::estop_latched : EnableOutcome::enabled);
+  }
 }
 
 }  // namespace

@@ -550,6 +550,26 @@ TEST_F(ControlLoopTest, WhileLatchedZeroFramesGoOnAtTheRate) {
   EXPECT_EQ(sent, std::vector<Velocity>(10, kZero));
 }
 
+// After a restart from the state file: latched, yet control is enabled as at any start, so
+// the chassis is held by zero frames, and a release lets the next drive move it.
+TEST_F(ControlLoopTest, ADaemonThatStartsLatchedEnablesAndHoldsTheChassisAtZero) {
+  supervisor_.restore(client_latch(kAlice));
+  loop_.start();
+  const auto started = sim_.take_frames();
+  ASSERT_EQ(started.size(), 3u);
+  EXPECT_EQ(started[0].velocity, kZero);
+  EXPECT_EQ(started[1].enable, true);
+  EXPECT_EQ(started[2].velocity, kZero);
+  EXPECT_TRUE(supervisor_.enabled());
+  sim_.advance(5 * kPeriod);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>(5, kZero));
+  EXPECT_EQ(loop_.enable(), EnableOutcome::estop_latched) << "a client's enable is still refused";
+  EXPECT_EQ(loop_.drive(kBob, kForward).decision.refusal, DriveRefusal::estop_latched);
+  EXPECT_TRUE(loop_.release(kBob));
+  EXPECT_EQ(loop_.drive(kBob, kForward).decision.refusal, std::nullopt);
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kForward});
+}
+
 TEST_F(ControlLoopTest, ASecondEstopChangesNothing) {
   start();
   loop_.estop(client_latch(kAlice, "first"));

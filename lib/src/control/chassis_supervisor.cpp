@@ -30,8 +30,8 @@ bool ChassisSupervisor::start() {
   return true;
 }
 
-EnableOutcome ChassisSupervisor::enable() {
-  if (safety_) return EnableOutcome::estop_latched;
+EnableOutcome ChassisSupervisor::enable(EnableRequest request) {
+  if (safety_ && request == EnableRequest::client) return EnableOutcome::estop_latched;
   if (mode_ == ControlMode::enabled) return EnableOutcome::already_enabled;
   if (mode_ != ControlMode::disabled && mode_ != ControlMode::awaiting_first_zero) return EnableOutcome::unavailable;
   mode_ = ControlMode::enabled;

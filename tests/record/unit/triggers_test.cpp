@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "wheeltec/config/config.hpp"
+#include "wheeltec/config/config_document.hpp"
 
 namespace wheeltec::record {
 namespace {

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "wheeltec/config/config_document.hpp"
 #include "wheeltec/frames/control_frame.hpp"
 #include "wheeltec/telemetry/odometry.hpp"
 #include "wheeltec/types.hpp"
@@ -75,23 +76,6 @@ struct GatewayConfig {
     std::string level = "info";  // trace, debug, info, warn, error
   } log;
 };
-
-// A configuration problem. what() names the key, e.g.
-// "control.rate_hz: expected a number, got string" or "can.foo: unknown key".
-class ConfigError : public std::runtime_error {
- public:
-  explicit ConfigError(const std::string& message) : std::runtime_error(message) {}
-  ConfigError(std::string key, std::string_view problem);
-  // The key path the problem is about ("control.limits.vx"); empty when it is not about one key.
-  const std::string& key() const noexcept { return key_; }
-
- private:
-  std::string key_;
-};
-
-// The JSON document of a config file; throws ConfigError for a syntax error (with line
-// and column), a duplicate key or nesting deeper than any config has.
-nlohmann::json parse_config_document(std::string_view text);
 
 // Merges a document of the config file's shape over `config`, checking only that each
 // key is known and each value has the key's type; throws ConfigError.

@@ -23,7 +23,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "wheeltec/config/config.hpp"  // ConfigError
+#include "wheeltec/config/config_document.hpp"
 
 namespace wheeltec::config_fields {
 

@@ -30,6 +30,10 @@ enum class ControlMode {
 // Why a drive was not taken.
 enum class DriveRefusal { estop_latched, chassis_not_ready, link_down, control_disabled, control_held };
 
+// Who asks for control to be enabled: the daemon at start (control.auto_enable), which the
+// latch does not hold off (a latched chassis is held at zero by the frames), or a client.
+enum class EnableRequest { at_start, client };
+
 // What an enable request does.
 enum class EnableOutcome { enabled, already_enabled, estop_latched, unavailable };
 
@@ -80,7 +84,7 @@ class ChassisSupervisor {
   // or self-test entered) sets the target to zero and the next frame to zero, unramped.
   // The first frame after start and after the link comes back is zero too.
   bool start();                // the start-up zero frame
-  EnableOutcome enable();
+  EnableOutcome enable(EnableRequest request);
   bool disable();              // true if control was enabled until now; target zero, no owner
   void stop();                 // target zero, no owner (always sent)
   std::optional<ControlLapse> client_gone(ClientId client);        // set if it held control

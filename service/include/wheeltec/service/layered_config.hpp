@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "wheeltec/config/config.hpp"
+#include "wheeltec/config/config_document.hpp"
 #include "wheeltec/service/config_file.hpp"
 
 namespace wheeltec::service {

@@ -16,7 +16,7 @@
 #include <boost/asio/signal_set.hpp>
 #include <spdlog/spdlog.h>
 
-#include "wheeltec/config/config.hpp"
+#include "wheeltec/config/config_document.hpp"
 #include "wheeltec/service/logging.hpp"
 
 namespace wheeltec::service {
