@@ -75,6 +75,11 @@ Field principals(std::string_view key, std::vector<std::string>& target) {
           }};
 }
 
+// control.accel or control.decel: {"vx", "vy", "wz"}, each a number or null.
+Field axis_rates(std::string_view key, AxisRates& rates) {
+  return object(key, {optional_number("vx", rates.vx), optional_number("vy", rates.vy), optional_number("wz", rates.wz)});
+}
+
 // NaN fails every comparison, so ranges are written to reject it.
 void check_closed(double value, double lo, double hi, std::string_view path) {
   if (!(value >= lo && value <= hi)) fail(path, fmt::format("must be in [{}, {}], got {}", lo, hi, value));
@@ -124,10 +129,8 @@ void apply_config(const json& document, GatewayConfig& config) {
       boolean("disable_on_exit", c.control.disable_on_exit),
       object("limits", {number("vx", c.control.limits.vx), number("vy", c.control.limits.vy),
                         number("wz", c.control.limits.wz)}),
-      object("accel", {optional_number("vx", c.control.ramp.accel.vx), optional_number("vy", c.control.ramp.accel.vy),
-                       optional_number("wz", c.control.ramp.accel.wz)}),
-      object("decel", {optional_number("vx", c.control.ramp.decel.vx), optional_number("vy", c.control.ramp.decel.vy),
-                       optional_number("wz", c.control.ramp.decel.wz)}),
+      axis_rates("accel", c.control.ramp.accel),
+      axis_rates("decel", c.control.ramp.decel),
     }),
     object("telemetry", {number("timeout_s", c.telemetry.timeout_s),
                          number("low_battery_v", c.telemetry.low_battery_v)}),
