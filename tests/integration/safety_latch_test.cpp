@@ -94,10 +94,16 @@ TEST_F(SafetyLatch, TheLatchOutlivesSigkill) {
   bus.discard_pending();
   gateway.start_daemon();
   auto again = gateway.connect();
-  EXPECT_EQ(again.call("status")["safety"], latched);
+  const Json restarted = again.call("status");
+  EXPECT_EQ(restarted["safety"], latched);
+  EXPECT_EQ(restarted["control"]["enabled"], true) << restarted.dump();
   EXPECT_EQ(error_code(again.request("drive", {{"vx", 0.3}})), kLatched);
+  // The first control frame may wait for the link's first open; then they come at the rate.
+  ASSERT_TRUE(bus.wait_for([](const auto& f) { return is_control_frame(f); }, 2s))
+      << "no control frame within 2 s of the restart; status " << again.call("status").dump() << "; stats "
+      << again.call("stats").dump();
   const auto frames = bus.collect([](const auto& f) { return is_control_frame(f); }, 300ms);
-  EXPECT_GE(frames.size(), 4u) << "zero frames at the rate while latched";
+  EXPECT_GE(frames.size(), 4u) << "zero frames at the rate while latched; stats " << again.call("stats").dump();
   for (const auto& f : frames) EXPECT_TRUE(is_zero_control_frame(f.frame)) << to_text(f.frame);
 
   EXPECT_EQ(again.request("release")["result"], Json::object());
