@@ -18,8 +18,9 @@ namespace {
 
 namespace mqtt = wheeltec::mqtt;
 
-constexpr mqtt::Command kCommands[] = {mqtt::Command::drive, mqtt::Command::stop, mqtt::Command::enable,
-                                       mqtt::Command::disable, mqtt::Command::reset_odometry};
+constexpr mqtt::Command kCommands[] = {mqtt::Command::drive,   mqtt::Command::stop,           mqtt::Command::enable,
+                                       mqtt::Command::disable, mqtt::Command::reset_odometry, mqtt::Command::estop,
+                                       mqtt::Command::release};
 
 void check_reply(const mqtt::Json& reply) {
   const auto parsed = mqtt::Json::parse(reply.dump(), nullptr, /*allow_exceptions=*/false);
@@ -29,7 +30,7 @@ void check_reply(const mqtt::Json& reply) {
 void check_command(mqtt::Command command, std::string_view payload) {
   const mqtt::ParsedCommand parsed = mqtt::parse_command(command, payload);
   if (const auto* refusal = std::get_if<mqtt::CommandRefusal>(&parsed)) {
-    if (command == mqtt::Command::stop) std::abort();
+    if (command == mqtt::Command::stop || command == mqtt::Command::estop) std::abort();  // never refused
     if (refusal->code != mqtt::kParseError && refusal->code != mqtt::kInvalidRequest &&
         refusal->code != mqtt::kInvalidParams) {
       std::abort();
@@ -55,7 +56,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // The first byte picks the command; the input is also tried as a topic.
   check_command(kCommands[data[0] % std::size(kCommands)], input);
   static const mqtt::Topics topics("wheeltec", "r1");
-  const auto command = topics.command_of(input.substr(0, input.find('\n')));
-  if (command && !topics.owns(input.substr(0, input.find('\n')))) std::abort();
+  const std::string_view topic = input.substr(0, input.find('\n'));
+  const auto command = topics.command_of(topic);
+  // A command comes on the robot's own topics, or is the whole fleet's emergency stop.
+  const bool fleet_estop = topic == topics.fleet_estop() && command == mqtt::Command::estop;
+  if (command && !topics.owns(topic) && !fleet_estop) std::abort();
   return 0;
 }

@@ -57,10 +57,13 @@ work=$(mktemp -d)
 trap 'rm -rf -- "$work"' EXIT
 dpkg-deb -e "$deb" "$work/control"
 grep -qxF /etc/wheeltecd/wheeltecd.json "$work/control/conffiles" || fail "the config is not a conffile"
-# The shipped conffile is the defaults file but for api.control_groups = ["wheeltec"].
+# The shipped conffile is the defaults file but for api.control_groups = ["wheeltec"] and the
+# emergency stop's state file in the unit's StateDirectory.
 dpkg-deb --fsys-tarfile "$deb" | tar -xO ./etc/wheeltecd/wheeltecd.json >"$work/shipped.json"
-[[ $(jq -S 'del(.api.control_groups)' "$work/shipped.json") == $(jq -S 'del(.api.control_groups)' "$REPO_ROOT/config/wheeltecd.json") ]] ||
-  fail "the shipped wheeltecd.json differs from config/wheeltecd.json in more than api.control_groups"
+[[ $(jq -S 'del(.api.control_groups, .safety.state_file)' "$work/shipped.json") == $(jq -S 'del(.api.control_groups, .safety.state_file)' "$REPO_ROOT/config/wheeltecd.json") ]] ||
+  fail "the shipped wheeltecd.json differs from config/wheeltecd.json in more than api.control_groups and safety.state_file"
+[[ $(jq -r .safety.state_file "$work/shipped.json") == /var/lib/wheeltecd/safety.json ]] ||
+  fail "the shipped wheeltecd.json keeps the latch elsewhere than /var/lib/wheeltecd/safety.json"
 [[ $(jq -c .api.control_groups "$work/shipped.json") == '["wheeltec"]' ]] ||
   fail "the shipped wheeltecd.json does not let the group wheeltec drive"
 grep -q '^Depends:.*adduser' "$work/control/control" || fail "Depends lacks adduser"
