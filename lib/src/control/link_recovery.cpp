@@ -1,6 +1,5 @@
 #include "wheeltec/control/link_recovery.hpp"
 
-#include <algorithm>
 #include <utility>
 
 namespace wheeltec {
@@ -18,14 +17,8 @@ bool LinkRecovery::down(LinkDownCause cause) {
   return news;
 }
 
-std::chrono::milliseconds LinkRecovery::next_retry() {
-  const std::chrono::milliseconds delay = next_retry_;
-  next_retry_ = std::min(next_retry_ * 2, std::max(policy_.max, policy_.first));
-  return delay;
-}
-
 std::optional<LinkDownCause> LinkRecovery::opened() {
-  next_retry_ = policy_.first;
+  retries_.reset();
   return std::exchange(cause_, std::nullopt);
 }
 

@@ -1,29 +1,9 @@
 #pragma once
 
-// Delays between attempts to reach something that went away: doubling from `first` up to
-// `longest`, and back to `first` after a success.
-
-#include <algorithm>
-#include <chrono>
+#include "wheeltec/backoff.hpp"
 
 namespace wheeltec::client {
 
-class Backoff {
- public:
-  Backoff(std::chrono::milliseconds first, std::chrono::milliseconds longest)
-      : first_(first), longest_(std::max(first, longest)), next_(first) {}
-
-  std::chrono::milliseconds next() {
-    const auto delay = next_;
-    next_ = std::min(next_ * 2, longest_);
-    return delay;
-  }
-  void reset() { next_ = first_; }
-
- private:
-  std::chrono::milliseconds first_;
-  std::chrono::milliseconds longest_;
-  std::chrono::milliseconds next_;
-};
+using Backoff = wheeltec::Backoff;
 
 }  // namespace wheeltec::client

@@ -10,6 +10,7 @@
 #include <span>
 #include <string_view>
 
+#include "wheeltec/backoff.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltec {
@@ -42,13 +43,13 @@ struct RetryPolicy {
 
 class LinkRecovery {
  public:
-  explicit LinkRecovery(RetryPolicy policy) : policy_(policy), next_retry_(policy.first) {}
+  explicit LinkRecovery(RetryPolicy policy) : policy_(policy), retries_(policy.first, policy.max) {}
 
   // Down, or an open that failed, for `cause`: true if that is news (a different cause than
   // the one known), worth a warning; a repeat is worth a debug line.
   bool down(LinkDownCause cause);
   // The delay before the next retry; each call doubles the one after, up to the policy's max.
-  std::chrono::milliseconds next_retry();
+  std::chrono::milliseconds next_retry() { return retries_.next(); }
   // Open again: no cause, the backoff starts over; what the cause was, if any.
   std::optional<LinkDownCause> opened();
 
@@ -57,7 +58,7 @@ class LinkRecovery {
 
  private:
   RetryPolicy policy_;
-  std::chrono::milliseconds next_retry_;
+  Backoff retries_;
   std::optional<LinkDownCause> cause_;
 };
 
