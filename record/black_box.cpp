@@ -8,7 +8,7 @@
 #include "wheeltec/mcap/writer.hpp"
 
 #include "file_metadata.hpp"
-#include "file_names.hpp"
+#include "wheeltec/record/file_names.hpp"
 
 namespace wheeltec::record {
 namespace {

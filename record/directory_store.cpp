@@ -10,7 +10,7 @@
 
 #include "wheeltec/config/config_document.hpp"
 
-#include "file_names.hpp"
+#include "wheeltec/record/file_names.hpp"
 
 namespace wheeltec::record {
 namespace {

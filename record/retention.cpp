@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <tuple>
 
-#include "file_names.hpp"
+#include "wheeltec/record/file_names.hpp"
 
 namespace wheeltec::record {
 namespace {

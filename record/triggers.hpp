@@ -1,7 +1,8 @@
 #pragma once
 
-// The black box's triggers (spec section 10): their fixed names, the set that is on, and
-// the --trigger/--no-trigger options that change it. Pure: no I/O.
+// The black box's triggers (spec section 10): the set that is on, and the --trigger and
+// --no-trigger options that change it; the triggers and their names are in
+// wheeltec/record/trigger.hpp. Pure: no I/O.
 
 #include <array>
 #include <bitset>
@@ -13,31 +14,9 @@
 #include <vector>
 
 #include "wheeltec/clocks.hpp"
+#include "wheeltec/record/trigger.hpp"
 
 namespace wheeltec::record {
-
-enum class Trigger {
-  deadman,           // a `deadman` event
-  halted,            // chassis.phase became `halted`
-  reboot,            // chassis.phase became `booting` after having been `ready`
-  link_down,         // bus.state left `up`
-  offline,           // chassis.online became false
-  battery_low,       // chassis.battery_low became true
-  commands_ignored,  // chassis.commands_ignored became true
-  refused,           // a `refused` event
-  daemon_lost,       // the daemon's socket closed
-  mark,              // a `mark` event
-  estop,             // an `estop` event: a client's or a hazard's emergency stop (protocol 5)
-};
-inline constexpr std::array kTriggers{
-    Trigger::deadman,     Trigger::halted,           Trigger::reboot,  Trigger::link_down,   Trigger::offline,
-    Trigger::battery_low, Trigger::commands_ignored, Trigger::refused, Trigger::daemon_lost, Trigger::mark,
-    Trigger::estop};
-
-// "deadman", "halted", "reboot", "link-down", "offline", "battery-low", "commands-ignored",
-// "refused", "daemon-lost", "mark", "estop".
-std::string_view trigger_name(Trigger trigger);
-std::optional<Trigger> trigger_of_name(std::string_view name);
 
 // A trigger and when it fired: the event's own `time`, or when the status or the loss of
 // the socket was seen.

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "file_names.hpp"  // wheeltec_record_policy
+#include "wheeltec/record/file_names.hpp"
 
 namespace wheeltec::web {
 

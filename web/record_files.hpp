@@ -2,7 +2,7 @@
 
 // The black box's files as wheeltec-web offers them (docs/web.md, "Recordings"): which names
 // in the recorder's directory are recordings, the list newest first as JSON, and the name a
-// download path asks for. Only whole files that wheeltec-record names (record/file_names.hpp)
+// download path asks for. Only whole files that wheeltec-record names (wheeltec/record/file_names.hpp)
 // are offered: never a .part still being written, never another file, never a path. Pure:
 // no I/O; record_directory.hpp reads the directory.
 

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -200,12 +201,12 @@ TEST(EmulatorFidelity, ManualDialectIgnoresCommandsUntilEnabledAndAfterDisabled)
   const wheeltec::CanFrame disable = make_frame(kManualControlId, {0x0A, 0x0C, 0x0F, 0x13, 0x18, 0x1E, 0x25, 0x00});
 
   // Commands the way a program without the handshake would send them, at 20 Hz, until
-  // `count` records (100 Hz) have come.
-  const auto command_for = [&](std::size_t count) {
+  // `done(records)` holds for the records (100 Hz) that have come, or `limit` has passed.
+  const auto command_until = [&](const auto& done, std::chrono::seconds limit) {
     std::vector<Json> records;
-    const auto give_up = SteadyClock::now() + 20s;
+    const auto give_up = SteadyClock::now() + limit;
     auto next_command = SteadyClock::now();
-    while (records.size() < count && SteadyClock::now() < give_up) {
+    while (!done(records) && SteadyClock::now() < give_up) {
       if (SteadyClock::now() >= next_command) {
         bus.send(forward);
         next_command = SteadyClock::now() + 50ms;
@@ -213,6 +214,9 @@ TEST(EmulatorFidelity, ManualDialectIgnoresCommandsUntilEnabledAndAfterDisabled)
       if (auto n = client.wait_notification("telemetry", 10ms)) records.push_back((*n)["params"]);
     }
     return records;
+  };
+  const auto command_for = [&](std::size_t count) {
+    return command_until([count](const std::vector<Json>& records) { return records.size() >= count; }, 20s);
   };
 
   const std::vector<Json> before_enable = command_for(80);
@@ -227,14 +231,20 @@ TEST(EmulatorFidelity, ManualDialectIgnoresCommandsUntilEnabledAndAfterDisabled)
   const std::vector<Json> settled(enabled.end() - 50, enabled.end());
   EXPECT_NEAR(mean_of(settled, "velocity", "vx"), 0.2, 0.006) << "after the enable frame\n" << gateway.logs();
 
+  // The wheels coast down at the emulator's pace, which a loaded machine slows: the
+  // robot must come to rest, and stay there for 20 records, while the forward commands go on.
   bus.send(disable);
-  const std::vector<Json> after_disable = command_for(100);
-  ASSERT_EQ(after_disable.size(), 100u) << gateway.logs();
-  const std::vector<Json> stopped(after_disable.end() - 20, after_disable.end());
-  EXPECT_NEAR(mean_of(stopped, "velocity", "vx"), 0.0, 0.003) << "still moving after the disable frame";
-  for (const Json& record : stopped) {
-    EXPECT_LT(std::abs(record["velocity"]["vx"].get<double>()), 0.02) << record.dump();
-  }
+  const auto at_rest_for_20_records = [](const std::vector<Json>& records) {
+    if (records.size() < 20) return false;
+    return std::all_of(records.end() - 20, records.end(), [](const Json& record) {
+      return std::abs(record["velocity"]["vx"].get<double>()) < 0.003;
+    });
+  };
+  const std::vector<Json> after_disable = command_until(at_rest_for_20_records, 10s);
+  ASSERT_TRUE(at_rest_for_20_records(after_disable))
+      << "still moving after the disable frame: "
+      << (after_disable.empty() ? std::string("no records") : after_disable.back().dump()) << "\n"
+      << gateway.logs();
   const std::string log = gateway.emulator().standard_error();
   EXPECT_NE(log.find("CAN control enabled"), std::string::npos) << log;
   EXPECT_NE(log.find("CAN control disabled"), std::string::npos) << log;

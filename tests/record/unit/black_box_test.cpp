@@ -10,7 +10,7 @@
 #include <string>
 
 #include "file_metadata.hpp"
-#include "file_names.hpp"
+#include "wheeltec/record/file_names.hpp"
 #include "mcap_checker.hpp"
 
 namespace wheeltec::record {

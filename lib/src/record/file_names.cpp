@@ -1,4 +1,4 @@
-#include "file_names.hpp"
+#include "wheeltec/record/file_names.hpp"
 
 #include <chrono>
 #include <ctime>

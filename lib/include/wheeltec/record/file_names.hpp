@@ -4,7 +4,8 @@
 //   20261127T153012Z-deadman.mcap     an incident: the UTC second of its first trigger
 //   20261127T153012Z-continuous.mcap  a --continuous file: the UTC second it starts
 // each written as NAME.part and renamed to NAME when whole. Pure: no I/O; UTC, never the
-// local time zone.
+// local time zone. Shared by wheeltec-record, which writes them, and wheeltec-web, which
+// offers them.
 
 #include <optional>
 #include <string>
@@ -13,7 +14,7 @@
 
 #include "wheeltec/clocks.hpp"
 
-#include "triggers.hpp"
+#include "wheeltec/record/trigger.hpp"
 
 namespace wheeltec::record {
 
