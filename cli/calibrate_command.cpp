@@ -134,12 +134,11 @@ std::variant<DriveOutcome, Interrupted> drive_and_measure(const GlobalOptions& o
     }
     std::cerr << fmt::format("driving until the odometry reaches {} (Ctrl-C stops)\n",
                              progress_text(request.axis, target));
-    auto next_send = Clock::now() + DaemonSession::kDriveResendPeriod;
     double best = watch.progress();
     auto best_time = Clock::now();
     for (;;) {
-      const auto wake = daemon.wait(std::min(next_send, best_time + kStallTime),
-                                    [&] { return watch.progress() >= target; });
+      // The Driver repeats the drive meanwhile; woken at the target or the stall deadline.
+      const auto wake = daemon.wait(best_time + kStallTime, [&] { return watch.progress() >= target; });
       if (wake == DaemonSession::Wake::interrupted) {
         interrupted = Interrupted{daemon.received_signal()};
         break;
@@ -157,17 +156,13 @@ std::variant<DriveOutcome, Interrupted> drive_and_measure(const GlobalOptions& o
                                    kStallTime.count(), progress_text(request.axis, watch.progress()),
                                    progress_text(request.axis, target)));
       }
-      if (now >= next_send) {
-        daemon.drive(velocity);
-        next_send = std::max(next_send + DaemonSession::kDriveResendPeriod, now);
-      }
     }
     driving = false;
-    daemon.call("stop");
+    daemon.stop();
   } catch (...) {
     if (driving) {
       try {
-        daemon.call("stop");
+        daemon.stop();
       } catch (...) {
         // The connection is gone: the daemon's deadman stops the robot.
       }

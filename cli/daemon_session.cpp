@@ -1,6 +1,7 @@
 #include "daemon_session.hpp"
 
 #include <csignal>
+#include <utility>
 
 #include <boost/asio/error.hpp>
 #include <boost/system/system_error.hpp>
@@ -31,19 +32,51 @@ DaemonSession::DaemonSession(const std::string& socket_path) : client_(connect(s
 }
 
 Json DaemonSession::call(const std::string& method, const Json& params) {
-  try {
-    return client_.call(method, params);
-  } catch (const boost::system::system_error& error) {
-    if (error.code() == boost::asio::error::timed_out) {
-      throw CliError(kExitFailure, method + ": no reply from wheeltecd within " +
-                                       std::to_string(client::Connection::kReplyTimeout.count()) + " s");
-    }
-    throw CliError(kExitFailure, "connection to wheeltecd lost during " + method + ": " + reason(error.code()));
+  bool answered = false;
+  boost::system::error_code result;
+  Json answer;
+  connection().async_call(method, params, [&](boost::system::error_code ec, Json value) {
+    result = ec;
+    answer = std::move(value);
+    answered = true;
+  });
+  io().restart();
+  while (!answered && io().run_one() > 0) {
   }
+  throw_if_failed(method, result, answer);
+  return answer;
+}
+
+void DaemonSession::throw_if_failed(const std::string& method, boost::system::error_code ec, const Json& answer) {
+  if (!ec) return;
+  if (ec.category() == client::rpc_category()) throw client::RpcError(method, answer);
+  if (ec == boost::asio::error::timed_out) {
+    throw CliError(kExitFailure, method + ": no reply from wheeltecd within " +
+                                     std::to_string(client::Connection::kReplyTimeout.count()) + " s");
+  }
+  throw CliError(kExitFailure, "connection to wheeltecd lost during " + method + ": " + reason(ec));
 }
 
 Json DaemonSession::drive(const wheeltec::Velocity& velocity) {
-  return call("drive", client::to_json(client::Velocity{velocity.vx, velocity.vy, velocity.wz}));
+  if (!driver_) {
+    driver_.emplace(connection(), kDriveResendPeriod);
+    driver_->on_error([this](boost::system::error_code ec, const Json& error) { failed_drive_ = DriveAnswer{ec, error}; });
+  }
+  std::optional<DriveAnswer> first;
+  driver_->drive(client::Velocity{velocity.vx, velocity.vy, velocity.wz},
+                 [&first](boost::system::error_code ec, Json answer) { first = DriveAnswer{ec, std::move(answer)}; });
+  io().restart();
+  while (!first && io().run_one() > 0) {
+  }
+  if (!first) throw CliError(kExitFailure, "connection to wheeltecd lost during drive");
+  throw_if_failed("drive", first->ec, first->answer);
+  return first->answer;
+}
+
+Json DaemonSession::stop() {
+  driver_.reset();
+  failed_drive_.reset();
+  return call("stop");
 }
 
 void DaemonSession::catch_interrupts() {
@@ -65,6 +98,7 @@ DaemonSession::Wake DaemonSession::wait(std::optional<Clock::time_point> deadlin
   for (;;) {
     if (received_signal_ != 0) return Wake::interrupted;
     if (lost_) throw CliError(kExitFailure, "connection to wheeltecd lost: " + reason(lost_));
+    if (const auto failed = std::exchange(failed_drive_, std::nullopt)) throw_if_failed("drive", failed->ec, failed->answer);
     if (done && done()) return Wake::done;
     if (deadline && Clock::now() >= *deadline) return Wake::timeout;
     if (deadline) {

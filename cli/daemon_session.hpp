@@ -10,6 +10,7 @@
 
 #include "human_format.hpp"
 #include "wheeltec/client/client.hpp"
+#include "wheeltec/client/driver.hpp"
 #include "wheeltec/types.hpp"
 
 namespace wheeltecctl {
@@ -33,7 +34,15 @@ class DaemonSession {
   // The result of `method`. An error answer throws wheeltec::client::RpcError; a lost
   // connection or no answer in time throws CliError(kExitFailure).
   Json call(const std::string& method, const Json& params = Json());
+
+  // Drives `velocity` at once and returns the daemon's answer, failing as call() does; then
+  // keeps driving it, repeated every kDriveResendPeriod by a wheeltec::client::Driver while
+  // the connection's handlers run (in wait() and call()), until stop() or the next drive().
+  // A repeat that fails ends the repeating, and the next wait() throws what call() would have.
   Json drive(const wheeltec::Velocity& velocity);
+  // Ends the repeating and sends `stop` (zero at once, control released): its result.
+  Json stop();
+  bool driving() const { return driver_.has_value() && driver_->driving(); }
 
   // From now on SIGINT, SIGTERM and SIGHUP no longer end the program but wait().
   void catch_interrupts();
@@ -50,8 +59,17 @@ class DaemonSession {
 
  private:
   void wait_for_signal();
+  // Throws what call(method) would have for this answer; returns when it is a result.
+  static void throw_if_failed(const std::string& method, boost::system::error_code ec, const Json& answer);
+
+  struct DriveAnswer {
+    boost::system::error_code ec;
+    Json answer;  // the result, or the daemon's error object on an rpc_category() error
+  };
 
   wheeltec::client::Client client_;
+  std::optional<wheeltec::client::Driver> driver_;
+  std::optional<DriveAnswer> failed_drive_;  // a repeat's, for the next wait()
   std::optional<boost::asio::signal_set> interrupts_;
   int received_signal_ = 0;
   boost::system::error_code lost_;

@@ -1,4 +1,3 @@
-#include <algorithm>
 #include <chrono>
 #include <iostream>
 
@@ -24,21 +23,8 @@ int run_drive(const GlobalOptions& options, const wheeltec::Velocity& velocity, 
     std::cout << format_drive_started(first_result, velocity, seconds) << std::endl;
   }
 
-  auto next_send = start + DaemonSession::kDriveResendPeriod;
-  bool interrupted = false;
-  for (;;) {
-    if (daemon.wait(std::min(next_send, end)) == DaemonSession::Wake::interrupted) {
-      interrupted = true;
-      break;
-    }
-    const auto now = Clock::now();
-    if (now >= end) break;
-    if (now < next_send) continue;
-    daemon.drive(velocity);
-    next_send = std::max(next_send + DaemonSession::kDriveResendPeriod, Clock::now());
-  }
-
-  const Json stop_result = daemon.call("stop");
+  const bool interrupted = daemon.wait(end) == DaemonSession::Wake::interrupted;
+  const Json stop_result = daemon.stop();
   if (options.json) {
     std::cout << stop_result.dump() << std::endl;
   } else {

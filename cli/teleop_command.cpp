@@ -53,20 +53,19 @@ class TeleopSession {
     return true;
   }
 
-  // The next moment on_timer() has work to do, nullopt while idle.
-  std::optional<Clock::time_point> next_deadline() const {
-    if (!moving_until_) return std::nullopt;
-    return std::min(next_send_, *moving_until_);
-  }
+  // The next moment on_timer() has work to do, nullopt while idle. The drive itself is
+  // repeated by the session's Driver meanwhile.
+  std::optional<Clock::time_point> next_deadline() const { return moving_until_; }
 
   void on_timer() {
-    if (!moving_until_) return;
-    const auto now = Clock::now();
-    if (now >= *moving_until_) {
-      send_stop();
-    } else if (now >= next_send_) {
-      send_drive();
-    }
+    if (moving_until_ && Clock::now() >= *moving_until_) send_stop();
+  }
+
+  // A repeat of the drive was refused (another client took control, the emergency stop
+  // latched...): show it, go idle.
+  void on_drive_refused(const wheeltec::client::RpcError& error) {
+    note_ = refusal_note(error);
+    moving_until_.reset();
   }
 
   // Stops the robot if this session is driving it.
@@ -90,18 +89,20 @@ class TeleopSession {
       const Json result = daemon_.drive(velocity);
       const auto clamped = result.find("clamped");
       note_ = clamped != result.end() && *clamped == true ? "clamped by the daemon's limits" : "";
-      next_send_ = Clock::now() + DaemonSession::kDriveResendPeriod;
     } catch (const wheeltec::client::RpcError& error) {
       // Not driving (held by another client, disabled, bus down...): show it, go idle.
-      note_ = error.message() + " (code " + std::to_string(error.code()) + ")";
-      moving_until_.reset();
+      on_drive_refused(error);
     }
+  }
+
+  static std::string refusal_note(const wheeltec::client::RpcError& error) {
+    return error.message() + " (code " + std::to_string(error.code()) + ")";
   }
 
   void send_stop() {
     moving_until_.reset();
     try {
-      daemon_.call("stop");
+      daemon_.stop();
       note_.clear();
     } catch (const wheeltec::client::RpcError& error) {
       note_ = error.what();
@@ -113,7 +114,6 @@ class TeleopSession {
   TeleopSpeeds speeds_;
   MotionDirection direction_;
   std::optional<Clock::time_point> moving_until_;
-  Clock::time_point next_send_{};
   std::string note_;
 };
 
@@ -136,7 +136,12 @@ int run_teleop(const GlobalOptions& options, double hold_seconds) {
         session.render();
         keyboard.async_wait(boost::asio::posix::stream_descriptor::wait_read,
                             [&key_waiting](boost::system::error_code ec) { key_waiting = !ec; });
-        const auto wake = daemon.wait(session.next_deadline(), [&key_waiting] { return key_waiting; });
+        DaemonSession::Wake wake = DaemonSession::Wake::timeout;
+        try {
+          wake = daemon.wait(session.next_deadline(), [&key_waiting] { return key_waiting; });
+        } catch (const wheeltec::client::RpcError& error) {
+          session.on_drive_refused(error);
+        }
         keyboard.cancel();
         if (wake == DaemonSession::Wake::interrupted) {
           exit_code = 128 + daemon.received_signal();

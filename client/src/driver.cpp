@@ -9,10 +9,10 @@ class Driver::State : public std::enable_shared_from_this<State> {
   State(Connection& connection, std::chrono::milliseconds period)
       : connection_(connection), period_(period), timer_(connection.executor()) {}
 
-  void drive(const Velocity& target) {
+  void drive(const Velocity& target, Connection::CallHandler first_answer) {
     target_ = target;
     driving_ = true;
-    send_drive();
+    send_drive(std::move(first_answer));
   }
 
   void stop(Connection::CallHandler handler) {
@@ -31,15 +31,20 @@ class Driver::State : public std::enable_shared_from_this<State> {
   bool driving_ = false;
 
  private:
-  void send_drive() {
+  void send_drive(Connection::CallHandler answer_handler = {}) {
     timer_.cancel();
     std::weak_ptr<State> weak = shared_from_this();
-    connection_.async_call("drive", to_json(target_), [weak](auto ec, const Json& answer) {
-      const auto self = weak.lock();
-      if (!self || !self->driving_ || !ec) return;
-      self->halt();
-      if (self->error_handler_) self->error_handler_(ec, answer);
-    });
+    connection_.async_call("drive", to_json(target_),
+                           [weak, answer_handler = std::move(answer_handler)](auto ec, Json answer) {
+                             const auto self = weak.lock();
+                             const bool stops_repeating = self && self->driving_ && ec;
+                             if (stops_repeating) self->halt();
+                             if (answer_handler) {
+                               answer_handler(ec, std::move(answer));
+                             } else if (stops_repeating && self->error_handler_) {
+                               self->error_handler_(ec, answer);
+                             }
+                           });
     timer_.expires_after(period_);
     timer_.async_wait([weak](auto ec) {
       const auto self = weak.lock();
@@ -58,7 +63,9 @@ Driver::Driver(Connection& connection, std::chrono::milliseconds period)
 
 Driver::~Driver() { state_->halt(); }
 
-void Driver::drive(const Velocity& target) { state_->drive(target); }
+void Driver::drive(const Velocity& target, Connection::CallHandler first_answer) {
+  state_->drive(target, std::move(first_answer));
+}
 void Driver::stop(Connection::CallHandler handler) { state_->stop(std::move(handler)); }
 void Driver::on_error(ErrorHandler handler) { state_->error_handler_ = std::move(handler); }
 bool Driver::driving() const { return state_->driving_; }

@@ -128,6 +128,18 @@ std::vector<Subscription::Message> Subscription::wait_for(std::size_t count, con
   }
 }
 
+std::optional<Subscription::Message> Subscription::wait_for_message(const std::function<bool(const Message&)>& matches,
+                                                                   std::chrono::milliseconds timeout) const {
+  const auto deadline = SteadyClock::now() + timeout;
+  for (;;) {
+    for (auto& message : messages()) {
+      if (matches(message)) return std::move(message);
+    }
+    if (SteadyClock::now() > deadline) return std::nullopt;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
+
 void publish(const Broker& broker, const std::filesystem::path& directory, const std::string& topic,
              const std::string& payload, const std::vector<std::string>& arguments) {
   std::vector<std::string> all = broker_arguments(broker);

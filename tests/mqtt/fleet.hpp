@@ -6,7 +6,9 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,6 +69,9 @@ class Subscription {
   // Waits for `count` messages on `topic` (all topics when empty) and returns those seen.
   std::vector<Message> wait_for(std::size_t count, const std::string& topic = "",
                                 std::chrono::milliseconds timeout = std::chrono::seconds(5)) const;
+  // The first message, seen before or within `timeout`, for which `matches` holds.
+  std::optional<Message> wait_for_message(const std::function<bool(const Message&)>& matches,
+                                          std::chrono::milliseconds timeout = std::chrono::seconds(5)) const;
 
  private:
   std::string probe_topic_;  // a topic of its own, to know when it has subscribed

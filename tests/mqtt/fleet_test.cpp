@@ -64,6 +64,21 @@ class MqttFleet : public ::testing::Test {
     throw std::runtime_error("bridge " + robot.name() + " not online\n" + robot.logs());
   }
 
+  // The first reply on `results` that `matches`, within 5 s.
+  static std::optional<Json> reply_where(const fleet::Subscription& results,
+                                         const std::function<bool(const Json&)>& matches) {
+    const auto found = results.wait_for_message([&](const fleet::Subscription::Message& message) {
+      const Json answer = Json::parse(message.payload, nullptr, false);
+      return answer.is_object() && matches(answer);
+    });
+    if (!found) return std::nullopt;
+    return Json::parse(found->payload);
+  }
+  // The reply with this id on the robot's cmd/result.
+  static std::optional<Json> reply_with_id(const fleet::Subscription& results, const std::string& id) {
+    return reply_where(results, [&id](const Json& answer) { return answer.value("id", Json()) == id; });
+  }
+
   const std::filesystem::path& dir() const { return directory_->path(); }
 
   static integration::TestDirectory* directory_;
@@ -166,17 +181,13 @@ TEST_F(MqttFleet, ASecondOperatorGetsMinus32001AndStopWorksFromAnyone) {
                                       100ms, 10s);
   ASSERT_TRUE(bus0.wait_for(is_moving_frame, 6s)) << "alice does not drive";
   fleet::publish(*broker_, dir(), "wheeltec/r1/cmd/drive", R"({"vx":-0.2,"operator":"bob","id":"b1"})");
-  std::optional<Json> refusal;
-  for (const auto& message : results.wait_for(1000, "", 2s)) {
-    const Json answer = Json::parse(message.payload);
-    if (answer["id"] == "b1") refusal = answer;
-  }
+  const std::optional<Json> refusal = reply_with_id(results, "b1");
   ASSERT_TRUE(refusal) << "no reply for bob";
   EXPECT_EQ((*refusal)["error"]["code"], -32001) << refusal->dump();
 
   bus0.discard_pending();
   fleet::publish(*broker_, dir(), "wheeltec/r1/cmd/stop", "", {"-V", "mqttv311"});
-  const auto zero = bus0.wait_for([](const auto& frame) { return integration::is_zero_control_frame(frame); }, 1s);
+  const auto zero = bus0.wait_for([](const auto& frame) { return integration::is_zero_control_frame(frame); }, 2s);
   ASSERT_TRUE(zero) << "stop from a third operator did not stop the robot";
   alice->kill();
   std::this_thread::sleep_for(600ms);  // alice's deadman, before the next test
@@ -321,14 +332,6 @@ class MqttSafety : public MqttFleet {
     return status.contains("safety") && status["safety"]["latched"] == false;
   }
 
-  // The reply with this id on the robot's cmd/result.
-  static std::optional<Json> reply_with_id(const fleet::Subscription& results, const std::string& id) {
-    for (const auto& message : results.wait_for(1000, "", 3s)) {
-      const Json answer = Json::parse(message.payload, nullptr, false);
-      if (answer.is_object() && answer.value("id", Json()) == id) return answer;
-    }
-    return std::nullopt;
-  }
 
   static void release(fleet::Robot& robot) {
     fleet::Subscription results(*broker_, directory_->path(), {robot.topic("cmd/result")});
@@ -362,11 +365,8 @@ TEST_F(MqttSafety, CmdEstopLatchesTheRobotUntilCmdRelease) {
   EXPECT_EQ((*answer)["command"], "estop");
   EXPECT_EQ((*answer)["result"], Json::object()) << answer->dump();
   // The operator's drives since are answered with the daemon's refusal, the safety object with it.
-  std::optional<Json> refusal;
-  for (const auto& message : results.wait_for(1000, "", 2s)) {
-    const Json answer = Json::parse(message.payload, nullptr, false);
-    if (answer.is_object() && answer.value("id", Json()) == "d" && answer.contains("error")) refusal = answer;
-  }
+  const std::optional<Json> refusal = reply_where(
+      results, [](const Json& answer) { return answer.value("id", Json()) == "d" && answer.contains("error"); });
   ASSERT_TRUE(refusal) << "no drive refused while latched";
   EXPECT_EQ(refusal->value("/error/code"_json_pointer, 0), -32007) << refusal->dump();
   EXPECT_EQ(refusal->value("/error/data/latched"_json_pointer, false), true) << refusal->dump();
@@ -406,17 +406,14 @@ TEST_F(MqttSafety, OneMessageOnAllCmdEstopStopsTheWholeFleet) {
   d2->kill();
 
   // Each robot answers on its own result topic.
-  const auto replies = results.wait_for(1000, "", 2s);
   for (const char* robot : {"r1", "r2"}) {
-    bool answered = false;
-    for (const auto& message : replies) {
-      const Json answer = Json::parse(message.payload);
-      if (message.topic == std::string("wheeltec/") + robot + "/cmd/result" && answer["command"] == "estop") {
-        answered = true;
-        EXPECT_EQ(answer["result"], Json::object()) << answer.dump();
-      }
-    }
-    EXPECT_TRUE(answered) << robot << " did not answer the fleet's estop";
+    const std::string topic = std::string("wheeltec/") + robot + "/cmd/result";
+    const auto reply = results.wait_for_message([&topic](const fleet::Subscription::Message& message) {
+      const Json answer = Json::parse(message.payload, nullptr, false);
+      return message.topic == topic && answer.is_object() && answer.value("command", "") == "estop";
+    });
+    ASSERT_TRUE(reply) << robot << " did not answer the fleet's estop";
+    EXPECT_EQ(Json::parse(reply->payload)["result"], Json::object()) << reply->payload;
   }
   for (fleet::Robot* robot : {r1_, r2_}) {
     const Json status = status_when(*robot, latched);

@@ -22,8 +22,10 @@ class Driver {
   Driver& operator=(const Driver&) = delete;
 
   // Sends `drive` now and repeats it every period. A refusal (or a lost connection) stops
-  // the repeating and goes to the error handler; a Driver never retries on its own.
-  void drive(const Velocity& target);
+  // the repeating and goes to the error handler; a Driver never retries on its own. The
+  // answer to the send made now goes to `first_answer` when one is given (the limits it
+  // applied, or its refusal, which stops the repeating too), and not to the error handler.
+  void drive(const Velocity& target, Connection::CallHandler first_answer = {});
   // Sends `stop` (zero at once, control released) and stops repeating.
   void stop(Connection::CallHandler handler = {});
 
