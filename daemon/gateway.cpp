@@ -76,7 +76,8 @@ void Gateway::start() {
 
 void Gateway::on_record(const RecordBytes& record, RealtimeNanos time) {
   const TelemetrySample& sample = telemetry_.decode(record, time);
-  control_.record({sample.time, sample.record.stopped, sample.record.velocity});
+  control_.record(RecordInput{{sample.time, sample.record.stopped, sample.record.velocity},
+                              sample.orientation.roll, sample.orientation.pitch});
   api_.queue_telemetry(sample);
   status_may_have_changed();
 }

@@ -27,6 +27,8 @@ EmulatorSettings model_settings(const EmulatorOptions& options, std::uint32_t se
   settings.boot_delay = from_seconds<std::chrono::nanoseconds>(options.boot_delay_s);
   settings.self_test = options.self_test;
   settings.tilt = options.tilt;
+  settings.wall_m = options.wall_m;
+  if (options.tip_after_s) settings.tip_after = from_seconds<std::chrono::nanoseconds>(*options.tip_after_s);
   settings.supply = options.supply;
   settings.battery_v = options.battery_v;
   settings.seed = seed;

@@ -171,6 +171,19 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
                                        "after SECONDS, go silent for 0.5 s and boot again (once), forgetting "
                                        "any enable and command")
                             ->check(finite_in(0.0, 1e9));
+  double wall = 0.0;
+  CLI::Option* wall_option =
+      app.add_option("--wall", wall, "the wheels stop dead once the robot is METRES ahead of where it started "
+                                     "(a collision, then a stall); driving backward frees it")
+          ->type_name("METRES")
+          ->check(finite_in(0.0, 1e6, LowBound::exclusive))
+          ->group("Hazards");
+  double tip_after = 0.0;
+  CLI::Option* tip_option =
+      app.add_option("--tip-after", tip_after, "SECONDS after start the chassis rolls over onto its side within 0.5 s")
+          ->type_name("SECONDS")
+          ->check(finite_in(0.0, 1e9))
+          ->group("Hazards");
   command_line::add_log_level_option(app, options.log_level, "log level")->capture_default_str();
   std::uint32_t seed = 0;
   CLI::Option* seed_option = app.add_option("--seed", seed, "seed of sensor noise and fault injection");
@@ -210,6 +223,8 @@ std::variant<EmulatorOptions, EarlyExit> parse_command_line(int argc, char** arg
   if (*replay_option) options.replay = ReplayOptions{replay_file, loop ? ReplayRepeat::forever : ReplayRepeat::once};
   if (*reboot) options.reboot_after_s = reboot_after;
   if (*silent) options.silent_after_s = silent_after;
+  if (*wall_option) options.wall_m = wall;
+  if (*tip_option) options.tip_after_s = tip_after;
   if (*seed_option) options.seed = seed;
   if (*serial_option) {
     if (*unplug) serial.unplug_after_s = unplug_after;

@@ -48,6 +48,8 @@ struct EmulatorOptions {
   TelemetryFaultRates faults;
   std::optional<double> silent_after_s;
   std::optional<double> reboot_after_s;
+  std::optional<double> wall_m;        // --wall
+  std::optional<double> tip_after_s;   // --tip-after
   std::string log_level = "info";
   std::optional<std::uint32_t> seed;  // empty: a random seed, logged at start
   std::optional<ReplayOptions> replay;

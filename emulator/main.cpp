@@ -65,6 +65,8 @@ void log_settings(const EmulatorOptions& options, std::uint32_t seed) {
     spdlog::info("tilted: roll {:.4f} rad, pitch {:.4f} rad", options.tilt.roll, options.tilt.pitch);
   }
   if (options.self_test == SelfTest::skip) spdlog::info("no self-test drive: obeying as soon as boot ends");
+  if (options.wall_m) spdlog::info("a wall {} m ahead: the wheels stop dead there until driven backward", *options.wall_m);
+  if (options.tip_after_s) spdlog::info("tipping over {} s after start", *options.tip_after_s);
 }
 
 }  // namespace

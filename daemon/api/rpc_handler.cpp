@@ -133,8 +133,12 @@ RpcHandler::Outcome RpcHandler::estop(const ClientState& client, const rpc::Requ
   return json::object();
 }
 
-RpcHandler::Outcome RpcHandler::release(const ClientState& client, const rpc::Request&) {
-  control_.release(client.id);
+RpcHandler::Outcome RpcHandler::release(const ClientState& client, const rpc::Request& request) {
+  if (control_.release(client.id) == ReleaseOutcome::still_tilted) {
+    rpc::Error error = latched_error(request);
+    error.message = "emergency stop latched by a tilt that still holds; right the robot before release";
+    return error;
+  }
   return json::object();
 }
 

@@ -26,6 +26,7 @@ SupervisorSettings supervisor_settings(const GatewayConfig& config) {
   settings.telemetry_timeout = from_seconds<std::chrono::nanoseconds>(config.telemetry.timeout_s);
   settings.limits = config.control.limits;
   settings.ramp = config.control.ramp;
+  settings.hazards = config.safety.hazards;
   return settings;
 }
 
@@ -100,6 +101,11 @@ EnableOutcome ControlLoop::enable(EnableRequest request) {
 
 bool ControlLoop::estop(const Latch& latch) {
   if (!supervisor_.estop(latch)) return false;
+  on_latched(latch);
+  return true;
+}
+
+void ControlLoop::on_latched(const Latch& latch) {
   send_zero_now();
   spdlog::warn("emergency stop latched ({}{}{}): zero velocity until release", to_string(latch.source),
                latch.reason.empty() ? "" : ": ", latch.reason);
@@ -107,16 +113,16 @@ bool ControlLoop::estop(const Latch& latch) {
   events_.publish(latch.source == LatchSource::client ? latch.by : std::nullopt,
                   events::Estop{latch.source, latch.reason});
   may_have_changed();
-  return true;
 }
 
-bool ControlLoop::release(std::optional<ClientId> by) {
-  if (!supervisor_.release()) return false;
+ReleaseOutcome ControlLoop::release(std::optional<ClientId> by) {
+  const ReleaseOutcome outcome = supervisor_.release();
+  if (outcome != ReleaseOutcome::released) return outcome;
   spdlog::info("emergency stop released{}", by ? fmt::format(" by client {}", *by) : "");
   latch_changed();
   events_.publish(by, events::Release{});
   may_have_changed();
-  return true;
+  return outcome;
 }
 
 void ControlLoop::latch_changed() { ports_.latch_store.save(supervisor_.safety()); }
@@ -157,8 +163,9 @@ void ControlLoop::link_changed(LinkState state) {
   may_have_changed();
 }
 
-void ControlLoop::record(const PhaseInput& record) {
+void ControlLoop::record(const RecordInput& record) {
   const RecordOutcome outcome = supervisor_.record(record, ports_.clock.now());
+  if (outcome.hazard) on_latched(*outcome.hazard);
   if (outcome.came_online && supervisor_.enabled()) send_enable(true);
   if (outcome.stage_changed && outcome.stage) log_stage_change(outcome.previous_stage, *outcome.stage);
   if (outcome.zeroed) {

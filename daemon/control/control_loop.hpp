@@ -50,11 +50,14 @@ class ControlLoop {
   // The emergency stop: zero now (even when it already was), control released, the latch
   // kept in the state file, the event; false when already latched (nothing changes).
   bool estop(const Latch& latch);
-  // Clears the latch (kept in the state file, the event); false when it was not latched.
-  bool release(std::optional<ClientId> by);
+  // Clears the latch (kept in the state file, the event), unless the tilt that latched it
+  // still holds.
+  ReleaseOutcome release(std::optional<ClientId> by);
   void client_gone(ClientId client);  // zero at once if it held control
   void link_changed(LinkState state); // up again: resend enable and the current command
-  void record(const PhaseInput& record);  // a telemetry record was accepted
+  // A telemetry record was accepted; a hazard it shows latches as estop does.
+  void record(const RecordInput& record);
+  void record(const PhaseInput& record) { this->record(RecordInput{record}); }
 
   // Zero velocity, then the disable frame if disable_on_exit; timers stopped.
   void shutdown();
@@ -77,6 +80,9 @@ class ControlLoop {
   void arm_deadman();
   void cancel_deadman();
   void latch_changed();
+  // Latched now (by estop or a hazard; the supervisor has zeroed): the zero frame at once,
+  // the state file, the log and the event.
+  void on_latched(const Latch& latch);
   // If the owner's deadline has passed: zero frame, control released; true if so.
   bool release_if_lapsed();
   // Control lapsed at `now` (zero already sent): the deadman event, if the chassis was moving.

@@ -8,54 +8,13 @@
 #include <cmath>
 #include <thread>
 
-#include "serial_daemon.hpp"
+#include "emulator_on_pty.hpp"
 
 namespace serial_tests {
 namespace {
 
-// Not SerialTest: the emulator, not the fake controller, holds the pseudo-terminal.
-class EmulatorSerial : public ::testing::Test {
+class EmulatorSerial : public EmulatorOnPty {
  protected:
-  void SetUp() override {
-    directory_ = std::make_unique<integration::TestDirectory>();
-    link_ = directory_->path() / "wheeltec_controller";
-  }
-  void TearDown() override {
-    daemon_.reset();
-    if (emulator_) emulator_->kill();
-    emulator_.reset();
-    directory_.reset();
-  }
-
-  void start_emulator(const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> arguments{"--serial", link_.string(), "--boot-delay", "1", "--no-self-test"};
-    arguments.insert(arguments.end(), extra.begin(), extra.end());
-    emulator_ = std::make_unique<ChildProcess>("wheeltec-emu", integration::program_path("wheeltec-emu"), arguments,
-                                               directory_->path());
-    started_ = SteadyClock::now();
-    // It publishes the link once its pseudo-terminal is ready.
-    const auto deadline = SteadyClock::now() + 5s + integration::start_allowance();
-    struct stat info {};
-    while (::stat(link_.c_str(), &info) != 0 || !S_ISCHR(info.st_mode)) {
-      if (auto ended = emulator_->wait_for_exit(0ms)) FAIL() << "wheeltec-emu ended: " << ended->describe() << "\n" << logs();
-      if (SteadyClock::now() > deadline) FAIL() << "wheeltec-emu did not publish " << link_ << " within 5 s\n" << logs();
-      std::this_thread::sleep_for(10ms);
-    }
-  }
-
-  SerialDaemon& start_daemon() {
-    daemon_ = std::make_unique<SerialDaemon>(directory_->path(), link_);
-    daemon_->wait_listening();
-    return *daemon_;
-  }
-
-  std::string logs() const {
-    std::string text;
-    if (daemon_) text += daemon_->logs();
-    if (emulator_) text += emulator_->output_report();
-    return text;
-  }
-
   // Drives vx every 100 ms for `duration` and returns the mean measured vx of the records
   // of the last `window`.
   double drive_and_measure(RpcConnection& client, double vx, std::chrono::milliseconds duration,
@@ -89,11 +48,6 @@ class EmulatorSerial : public ::testing::Test {
     return count > 0 ? sum / count : 0.0;
   }
 
-  std::unique_ptr<integration::TestDirectory> directory_;
-  std::filesystem::path link_;
-  std::unique_ptr<ChildProcess> emulator_;
-  std::unique_ptr<SerialDaemon> daemon_;
-  SteadyClock::time_point started_;
 };
 
 TEST_F(EmulatorSerial, DrivesAtTheCommandedSpeed) {

@@ -197,3 +197,84 @@ TEST(ChassisSupervisorLatch, TheLatchHoldsOffAClientsEnableButNotTheStartsOwn) {
 
 }  // namespace
 }  // namespace wheeltec
+
+// Hazards (spec section 12): judged on the records of a ready chassis, latched as estop.
+namespace wheeltec {
+namespace {
+
+constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
+
+class ChassisSupervisorHazards : public ChassisSupervisorTest {
+ protected:
+  // Drives `vx` and has its frame sent, at `at`.
+  void drive_and_send(double vx, std::chrono::nanoseconds at) {
+    ASSERT_EQ(supervisor_.drive(kAlice, {vx, 0, 0}, kStart + at).refusal, std::nullopt);
+    supervisor_.frame_sent(supervisor_.frame(kStart + at), kStart + at);
+  }
+  RecordOutcome tilted_record(std::chrono::nanoseconds at, double roll_deg) {
+    return supervisor_.record(RecordInput{{kEpoch + at, false, {}}, roll_deg * kRadiansPerDegree, 0.0}, kStart + at);
+  }
+};
+
+TEST_F(ChassisSupervisorHazards, ACollisionLatchesZeroesAndRefusesDrives) {
+  drive_and_send(0.5, 0ms);
+  EXPECT_FALSE(record(50ms, false, {0.5, 0, 0}).hazard);
+  const RecordOutcome outcome = record(100ms, false, {0.05, 0, 0});
+  ASSERT_TRUE(outcome.hazard);
+  EXPECT_EQ(outcome.hazard->source, LatchSource::collision);
+  EXPECT_EQ(outcome.hazard->since, kEpoch + 100ms) << "the time of the record that showed it";
+  EXPECT_EQ(outcome.hazard->by, std::nullopt);
+  EXPECT_EQ(supervisor_.safety(), outcome.hazard);
+  EXPECT_EQ(supervisor_.target(), Velocity{});
+  EXPECT_EQ(supervisor_.owner(), std::nullopt);
+  EXPECT_EQ(supervisor_.frame(kStart + 100ms), ControlCommand{}) << "zero at once, unramped";
+  EXPECT_EQ(supervisor_.drive(kAlice, {0.5, 0, 0}, kStart + 110ms).refusal, DriveRefusal::estop_latched);
+  EXPECT_EQ(supervisor_.release(), ReleaseOutcome::released);
+}
+
+TEST_F(ChassisSupervisorHazards, ACommandedStopAndRecordsOutsideReadyLatchNothing) {
+  drive_and_send(0.5, 0ms);
+  record(50ms, false, {0.5, 0, 0});
+  supervisor_.stop();
+  supervisor_.frame_sent(supervisor_.frame(kStart + 60ms), kStart + 60ms);
+  EXPECT_FALSE(record(100ms, false, {0.0, 0, 0}).hazard) << "a stop";
+  // flag_stop set without a silence: halted, not ready; the same drop is not judged.
+  drive_and_send(0.5, 110ms);
+  record(150ms, false, {0.5, 0, 0});
+  EXPECT_FALSE(record(200ms, true, {0.0, 0, 0}).hazard);
+  EXPECT_EQ(supervisor_.safety(), std::nullopt);
+}
+
+TEST_F(ChassisSupervisorHazards, ReleaseIsRefusedWhileTheTiltThatLatchedItHolds) {
+  std::optional<Latch> latched;
+  for (int i = 0; i < 40 && !latched; ++i) latched = tilted_record(i * 50ms, i < 20 ? 0.0 : 60.0).hazard;
+  ASSERT_TRUE(latched);
+  EXPECT_EQ(latched->source, LatchSource::tilt);
+  EXPECT_EQ(supervisor_.release(), ReleaseOutcome::still_tilted);
+  EXPECT_TRUE(supervisor_.safety());
+  tilted_record(2000ms, 10.0);  // righted
+  EXPECT_EQ(supervisor_.release(), ReleaseOutcome::released);
+}
+
+TEST_F(ChassisSupervisorHazards, AClientsLatchIsReleasedWhileTiltedAndNoHazardLatchesOverIt) {
+  for (int i = 0; i < 20; ++i) tilted_record(i * 50ms, 0.0);
+  supervisor_.estop(Latch{LatchSource::client, "hand", kEpoch, kBob});
+  for (int i = 20; i < 40; ++i) EXPECT_FALSE(tilted_record(i * 50ms, 60.0).hazard) << "one latch at a time";
+  EXPECT_EQ(supervisor_.safety()->source, LatchSource::client);
+  EXPECT_EQ(supervisor_.release(), ReleaseOutcome::released) << "the client's latch; the tilt latches next";
+  const RecordOutcome next = tilted_record(2000ms, 60.0);
+  ASSERT_TRUE(next.hazard);
+  EXPECT_EQ(next.hazard->source, LatchSource::tilt);
+}
+
+TEST_F(ChassisSupervisorHazards, DisabledHazardsFromTheSettingsLatchNothing) {
+  SupervisorSettings settings;
+  settings.hazards.collision.enabled = false;
+  supervisor_.apply(settings);
+  drive_and_send(0.5, 0ms);
+  record(50ms, false, {0.5, 0, 0});
+  EXPECT_FALSE(record(100ms, false, {0.0, 0, 0}).hazard);
+}
+
+}  // namespace
+}  // namespace wheeltec

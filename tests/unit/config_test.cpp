@@ -55,6 +55,7 @@ void expect_same(const GatewayConfig& a, const GatewayConfig& b) {
   EXPECT_EQ(a.control.limits.wz, b.control.limits.wz);
   EXPECT_EQ(a.control.ramp, b.control.ramp);
   EXPECT_EQ(a.safety.state_file, b.safety.state_file);
+  EXPECT_EQ(a.safety.hazards, b.safety.hazards);
   EXPECT_EQ(a.telemetry.timeout_s, b.telemetry.timeout_s);
   EXPECT_EQ(a.telemetry.low_battery_v, b.telemetry.low_battery_v);
   EXPECT_EQ(a.odometry.scale, b.odometry.scale);
@@ -164,6 +165,29 @@ TEST(ConfigParse, AccelerationLimitsAndTheStateFile) {
   EXPECT_EQ(printed["safety"]["state_file"], "/var/lib/wheeltecd/safety.json");
   EXPECT_FALSE(GatewayConfig{}.control.ramp.any()) << "no limits by default";
   EXPECT_EQ(GatewayConfig{}.safety.state_file, std::nullopt);
+}
+
+TEST(ConfigParse, HazardsAreOnByDefaultAndEachCanBeTunedOrTurnedOff) {
+  const HazardLimits defaults = GatewayConfig{}.safety.hazards;
+  EXPECT_TRUE(defaults.collision.enabled && defaults.tilt.enabled && defaults.stall.enabled);
+  EXPECT_EQ(defaults.collision.drop, 0.25);
+  EXPECT_EQ(defaults.tilt.max_deg, 35.0);
+  EXPECT_EQ(defaults.tilt.for_s, 0.3);
+  EXPECT_EQ(defaults.stall.for_s, 2.0);
+  const GatewayConfig c = parse_config(R"({"safety": {
+    "collision": {"enabled": false, "drop": 0.5},
+    "tilt": {"max_deg": 20, "for_s": 1},
+    "stall": {"enabled": false}
+  }})");
+  EXPECT_EQ(c.safety.hazards.collision, (CollisionLimits{false, 0.5}));
+  EXPECT_EQ(c.safety.hazards.tilt, (TiltLimits{true, 20.0, 1.0}));
+  EXPECT_EQ(c.safety.hazards.stall, (StallLimits{false, 2.0}));
+  const json printed = config_to_json(c)["safety"];
+  EXPECT_EQ(printed["collision"], json::parse(R"({"enabled": false, "drop": 0.5})"));
+  EXPECT_EQ(printed["tilt"], json::parse(R"({"enabled": true, "max_deg": 20.0, "for_s": 1.0})"));
+  EXPECT_EQ(printed["stall"], json::parse(R"({"enabled": false, "for_s": 2.0})"));
+  EXPECT_EQ(config_error(R"({"safety": {"tilt": {"enabled": "yes"}}})").rfind("safety.tilt.enabled: ", 0), 0u);
+  EXPECT_EQ(config_error(R"({"safety": {"stall": {"after_s": 1}}})").rfind("safety.stall.after_s: ", 0), 0u);
 }
 
 TEST(ConfigParse, BadAccelerationLimitsAndStateFilesNameTheKey) {
@@ -402,6 +426,18 @@ INSTANTIATE_TEST_SUITE_P(
         RangeCase{R"({"odometry": {"scale": {"y": 2.01}}})", "odometry.scale.y"},
         RangeCase{R"({"odometry": {"scale": {"yaw_positive": 0}}})", "odometry.scale.yaw_positive"},
         RangeCase{R"({"odometry": {"scale": {"yaw_negative": -1}}})", "odometry.scale.yaw_negative"},
+        RangeCase{R"({"safety": {"collision": {"drop": 0.05}, "tilt": {"max_deg": 5, "for_s": 0.05}}})", ""},
+        RangeCase{R"({"safety": {"collision": {"drop": 2}, "tilt": {"max_deg": 80, "for_s": 5}}})", ""},
+        RangeCase{R"({"safety": {"stall": {"for_s": 0.5}}})", ""},
+        RangeCase{R"({"safety": {"stall": {"for_s": 10}}})", ""},
+        RangeCase{R"({"safety": {"collision": {"drop": 0.04}}})", "safety.collision.drop"},
+        RangeCase{R"({"safety": {"collision": {"drop": 2.01}}})", "safety.collision.drop"},
+        RangeCase{R"({"safety": {"tilt": {"max_deg": 4.9}}})", "safety.tilt.max_deg"},
+        RangeCase{R"({"safety": {"tilt": {"max_deg": 81}}})", "safety.tilt.max_deg"},
+        RangeCase{R"({"safety": {"tilt": {"for_s": 0.04}}})", "safety.tilt.for_s"},
+        RangeCase{R"({"safety": {"tilt": {"for_s": 5.1}}})", "safety.tilt.for_s"},
+        RangeCase{R"({"safety": {"stall": {"for_s": 0.4}}})", "safety.stall.for_s"},
+        RangeCase{R"({"safety": {"stall": {"for_s": 10.5}}})", "safety.stall.for_s"},
         RangeCase{R"({"api": {"max_clients": 1}})", ""},
         RangeCase{R"({"api": {"max_clients": 1024}})", ""},
         RangeCase{R"({"api": {"max_clients": 0}})", "api.max_clients"},

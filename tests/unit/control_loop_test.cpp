@@ -520,6 +520,25 @@ TEST_F(ControlLoopTest, EstopSendsZeroAtOnceReleasesControlAndLatches) {
   EXPECT_GT(changes_, 0);
 }
 
+TEST_F(ControlLoopTest, AHazardLatchesLikeAnEstopFromTheRecordThatShowsIt) {
+  start();
+  loop_.drive(kAlice, {0.5, 0.0, 0.0});
+  sim_.take_frames();
+  loop_.record(RecordInput{{kWallClock, false, {0.5, 0.0, 0.0}}});
+  sim_.advance(kPeriod);
+  sim_.take_frames();
+  loop_.record(RecordInput{{kWallClock + kPeriod, false, {0.0, 0.0, 0.0}}});  // stopped short
+  EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kZero}) << "at once, not at the next period";
+  ASSERT_TRUE(supervisor_.safety());
+  EXPECT_EQ(supervisor_.safety()->source, LatchSource::collision);
+  EXPECT_EQ(supervisor_.safety()->since, kWallClock + kPeriod);
+  ASSERT_EQ(sim_.saved_.size(), 1u) << "kept in the state file";
+  EXPECT_EQ(sim_.saved_[0], supervisor_.safety());
+  ASSERT_EQ(count_events(sim_.events_published_, "estop"), 1);
+  EXPECT_EQ(sim_.events_published_.back().client, std::nullopt) << "no client for a hazard";
+  EXPECT_EQ(loop_.drive(kAlice, {0.5, 0.0, 0.0}).decision.refusal, DriveRefusal::estop_latched);
+}
+
 TEST_F(ControlLoopTest, EstopSendsAZeroFrameEvenWhenNothingMoves) {
   start();
   EXPECT_TRUE(loop_.estop(client_latch(kAlice)));
@@ -565,7 +584,7 @@ TEST_F(ControlLoopTest, ADaemonThatStartsLatchedEnablesAndHoldsTheChassisAtZero)
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>(5, kZero));
   EXPECT_EQ(loop_.enable(), EnableOutcome::estop_latched) << "a client's enable is still refused";
   EXPECT_EQ(loop_.drive(kBob, kForward).decision.refusal, DriveRefusal::estop_latched);
-  EXPECT_TRUE(loop_.release(kBob));
+  EXPECT_EQ(loop_.release(kBob), ReleaseOutcome::released);
   EXPECT_EQ(loop_.drive(kBob, kForward).decision.refusal, std::nullopt);
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>{kForward});
 }
@@ -585,7 +604,7 @@ TEST_F(ControlLoopTest, ReleaseClearsTheLatchAndNothingMovesUntilADrive) {
   start();
   loop_.drive(kAlice, kForward);
   loop_.estop(client_latch(kBob));
-  EXPECT_TRUE(loop_.release(kAlice));
+  EXPECT_EQ(loop_.release(kAlice), ReleaseOutcome::released);
   EXPECT_EQ(supervisor_.safety(), std::nullopt);
   ASSERT_EQ(sim_.saved_.size(), 2u);
   EXPECT_EQ(sim_.saved_[1], SafetyState{});
@@ -594,7 +613,7 @@ TEST_F(ControlLoopTest, ReleaseClearsTheLatchAndNothingMovesUntilADrive) {
   sim_.advance(3 * kPeriod);
   EXPECT_EQ(velocities(sim_.take_frames()), std::vector<Velocity>(3, kZero));
   EXPECT_EQ(loop_.drive(kAlice, kForward).decision.refusal, std::nullopt);
-  EXPECT_FALSE(loop_.release(kAlice)) << "not latched: nothing to release";
+  EXPECT_EQ(loop_.release(kAlice), ReleaseOutcome::not_latched) << "not latched: nothing to release";
 }
 
 // Acceleration limits (spec section 12): 1 m/s² forward, 2 m/s² braking, 10 rad/s² turning.

@@ -69,6 +69,20 @@ TEST(CollisionHazard, ACommandedSlowDownIsNeverOne) {
   EXPECT_TRUE(collision.judge(driving_sample(at_record(7), 0.10, 0.36), limits));
 }
 
+TEST(CollisionHazard, ACommandToReverseIsASlowDownToo) {
+  CollisionHazard collision;
+  collision.judge(driving_sample(at_record(0), 0.50, 0.50), {});
+  EXPECT_FALSE(collision.judge(driving_sample(at_record(1), 0.10, -0.50), {})) << "told to go back";
+  // Sideways, a command at right angles to the motion does not ask to keep going either.
+  CollisionHazard turned;
+  HazardSample sample = driving_sample(at_record(0), 0.50, 0.50);
+  turned.judge(sample, {});
+  sample.time = at_record(1);
+  sample.measured = {0.0, 0.1, 0};
+  sample.sent = {0.0, 0.5, 0};
+  EXPECT_FALSE(turned.judge(sample, {}));
+}
+
 TEST(CollisionHazard, TheFirmwaresOwnRampAndTheDaemonsRampAreNone) {
   const CollisionLimits limits;
   CollisionHazard collision;

@@ -239,7 +239,7 @@ TEST_F(WebLive, AMessageOver64KiBClosesWith1009) {
 }
 
 TEST_F(WebLive, AClientThatNeverReadsIsDroppedWhileOthersKeepReceiving) {
-  const json result = run_client("never-reads", {}, 60s);
+  const json result = run_client("never-reads", {}, 80s);
   EXPECT_EQ(result["ok"], true) << result.dump(2);
   EXPECT_NE(web_->standard_error().find("stayed full"), std::string::npos);
 }

@@ -16,6 +16,9 @@ constexpr double kAccelLsbPerMps2Exact = kAccelLsbPerG / kGravity;
 // Lithium cells: a pack of `battery_v` has round(battery_v / 3.7) cells, full at 4.2 V each.
 constexpr double kNominalCellV = 3.7;
 constexpr double kFullCellV = 4.2;
+// --tip-after: a quarter turn of roll in 0.45 s.
+constexpr double kTippedRoll = 1.5707963267948966;
+constexpr double kTipRollRate = kTippedRoll / 0.45;
 
 
 std::int16_t saturate_int16(double value) {
@@ -107,9 +110,10 @@ void ChassisEmulator::run_period() {
   const bool motors_enabled = !booting();
   if (!motors_enabled) sample_gyro_bias();
   const WheelSpeeds& targets = wheel_targets_now();
+  const bool blocked = at_wall();
   double load = 0.0;
   for (std::size_t i = 0; i < wheels_.size(); ++i) {
-    wheels_[i].run_period(targets.v[i], motors_enabled);
+    wheels_[i].run_period(targets.v[i], motors_enabled, blocked);
     load += std::abs(wheels_[i].pwm()) / settings_.wheel.pwm_limit;
   }
   const double dt = to_seconds(settings_.wheel.period);
@@ -119,9 +123,33 @@ void ChassisEmulator::run_period() {
   body_acceleration_.x = (velocity.vx - last_true_velocity_.vx) / dt - velocity.wz * velocity.vy;
   body_acceleration_.y = (velocity.vy - last_true_velocity_.vy) / dt + velocity.wz * velocity.vx;
   last_true_velocity_ = velocity;
+  move(velocity, dt);
+  tip(dt);
 
   if (!wheels_.empty()) load /= static_cast<double>(wheels_.size());
   update_battery(load, dt);
+}
+
+void ChassisEmulator::move(const Velocity& velocity, double dt) {
+  position_.yaw += velocity.wz * dt;
+  position_.x += (velocity.vx * std::cos(position_.yaw) - velocity.vy * std::sin(position_.yaw)) * dt;
+  position_.y += (velocity.vx * std::sin(position_.yaw) + velocity.vy * std::cos(position_.yaw)) * dt;
+}
+
+bool ChassisEmulator::at_wall() const {
+  if (!settings_.wall_m || position_.x < *settings_.wall_m) return false;
+  // Pushing into it: the commanded motion (the self-test's too) has a part ahead.
+  const Velocity toward = phase() == ControllerPhase::self_test ? Velocity{kSelfTestSpeed, 0.0, 0.0} : target_;
+  return toward.vx * std::cos(position_.yaw) - toward.vy * std::sin(position_.yaw) > 0.0;
+}
+
+void ChassisEmulator::tip(double dt) {
+  tip_roll_rate_ = 0.0;
+  if (!settings_.tip_after || time_ < *settings_.tip_after || tip_roll_ >= kTippedRoll) return;
+  const double step = std::min(kTippedRoll - tip_roll_, kTipRollRate * dt);
+  tip_roll_ += step;
+  tip_roll_rate_ = step / dt;
+  gravity_ = gravity_reaction({settings_.tilt.roll + tip_roll_, settings_.tilt.pitch}, kGravity);
 }
 
 void ChassisEmulator::update_battery(double load, double dt) {
@@ -232,7 +260,7 @@ RawTelemetry ChassisEmulator::telemetry() {
   raw.accel_x = saturate_int16((body_acceleration_.x + gravity_.x) * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
   raw.accel_y = saturate_int16((body_acceleration_.y + gravity_.y) * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
   raw.accel_z = saturate_int16(gravity_.z * kAccelLsbPerMps2Exact + noise(sigma.accel_lsb));
-  raw.gyro_x = saturate_int16(noise(sigma.gyro_lsb));
+  raw.gyro_x = saturate_int16(tip_roll_rate_ * kGyroLsbPerRadps + noise(sigma.gyro_lsb));
   raw.gyro_y = saturate_int16(noise(sigma.gyro_lsb));
   // The firmware sends gyro z as 0 while flag_stop is set (it is calibrating then),
   // and afterwards subtracts the offset it measured.

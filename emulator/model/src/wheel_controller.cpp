@@ -24,13 +24,13 @@ WheelController::WheelController(const WheelParameters& parameters, double encod
       speed_per_pwm_(parameters.full_pwm_speed / parameters.pwm_limit),
       encoder_fraction_(encoder_phase - std::floor(encoder_phase)) {}
 
-void WheelController::run_period(double target, bool motors_enabled) {
+void WheelController::run_period(double target, bool motors_enabled, bool blocked) {
   // The motor's exact first-order response to a constant PWM over one period.
   const double steady_speed = pwm_ * speed_per_pwm_;
   const double dt = to_seconds(parameters_.period);
   const double distance =
-      steady_speed * dt + (speed_ - steady_speed) * parameters_.time_constant * (1.0 - decay_);
-  speed_ = steady_speed + (speed_ - steady_speed) * decay_;
+      blocked ? 0.0 : steady_speed * dt + (speed_ - steady_speed) * parameters_.time_constant * (1.0 - decay_);
+  speed_ = blocked ? 0.0 : steady_speed + (speed_ - steady_speed) * decay_;
   encoder_fraction_ += distance * counts_per_metre_;
   const double whole_counts = std::floor(encoder_fraction_);
   encoder_fraction_ -= whole_counts;

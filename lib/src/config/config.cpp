@@ -140,7 +140,14 @@ void apply_config(const json& document, GatewayConfig& config) {
       number("yaw_positive", c.odometry.scale.yaw_positive),
       number("yaw_negative", c.odometry.scale.yaw_negative),
     })}),
-    object("safety", {optional_text("state_file", c.safety.state_file)}),
+    object("safety", {
+      optional_text("state_file", c.safety.state_file),
+      object("collision", {boolean("enabled", c.safety.hazards.collision.enabled),
+                           number("drop", c.safety.hazards.collision.drop)}),
+      object("tilt", {boolean("enabled", c.safety.hazards.tilt.enabled), number("max_deg", c.safety.hazards.tilt.max_deg),
+                      number("for_s", c.safety.hazards.tilt.for_s)}),
+      object("stall", {boolean("enabled", c.safety.hazards.stall.enabled), number("for_s", c.safety.hazards.stall.for_s)}),
+    }),
     object("api", {
       text("socket", c.api.socket),
       mode("mode", c.api.mode),
@@ -189,6 +196,10 @@ void validate_config(const GatewayConfig& c) {
     }
     if (path.back() == '/') fail("safety.state_file", fmt::format("must name a file, got the directory \"{}\"", path));
   }
+  check_closed(c.safety.hazards.collision.drop, 0.05, 2, "safety.collision.drop");
+  check_closed(c.safety.hazards.tilt.max_deg, 5, 80, "safety.tilt.max_deg");
+  check_closed(c.safety.hazards.tilt.for_s, 0.05, 5, "safety.tilt.for_s");
+  check_closed(c.safety.hazards.stall.for_s, 0.5, 10, "safety.stall.for_s");
 
   check_half_open(c.telemetry.timeout_s, 0, 60, "telemetry.timeout_s");
   check_closed(c.telemetry.low_battery_v, 0, 100, "telemetry.low_battery_v");
@@ -248,7 +259,14 @@ json config_to_json(const GatewayConfig& c) {
         {"decel", axis_rates_to_json(c.control.ramp.decel)}}},
       {"telemetry", {{"timeout_s", c.telemetry.timeout_s}, {"low_battery_v", c.telemetry.low_battery_v}}},
       {"odometry", {{"scale", odometry_scale_to_json(c.odometry.scale)}}},
-      {"safety", {{"state_file", c.safety.state_file ? json(*c.safety.state_file) : json(nullptr)}}},
+      {"safety",
+       {{"state_file", c.safety.state_file ? json(*c.safety.state_file) : json(nullptr)},
+        {"collision", {{"enabled", c.safety.hazards.collision.enabled}, {"drop", c.safety.hazards.collision.drop}}},
+        {"tilt",
+         {{"enabled", c.safety.hazards.tilt.enabled},
+          {"max_deg", c.safety.hazards.tilt.max_deg},
+          {"for_s", c.safety.hazards.tilt.for_s}}},
+        {"stall", {{"enabled", c.safety.hazards.stall.enabled}, {"for_s", c.safety.hazards.stall.for_s}}}}},
       {"api",
        {{"socket", c.api.socket},
         {"mode", fmt::format("{:04o}", c.api.mode)},

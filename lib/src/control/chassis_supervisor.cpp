@@ -3,11 +3,12 @@
 namespace wheeltec {
 
 ChassisSupervisor::ChassisSupervisor(const SupervisorSettings& settings)
-    : settings_(settings), arbiter_(settings.command_timeout) {}
+    : settings_(settings), arbiter_(settings.command_timeout), hazards_(settings.hazards) {}
 
 void ChassisSupervisor::apply(const SupervisorSettings& settings) {
   settings_ = settings;
   arbiter_.set_command_timeout(settings.command_timeout);
+  hazards_.set_limits(settings.hazards);
   update_command();  // new limits apply to the current target at once
 }
 
@@ -54,10 +55,11 @@ bool ChassisSupervisor::estop(const Latch& latch) {
   return true;
 }
 
-bool ChassisSupervisor::release() {
-  if (!safety_) return false;
+ReleaseOutcome ChassisSupervisor::release() {
+  if (!safety_) return ReleaseOutcome::not_latched;
+  if (safety_->source == LatchSource::tilt && hazards_.tilted()) return ReleaseOutcome::still_tilted;
   safety_.reset();
-  return true;
+  return ReleaseOutcome::released;
 }
 
 ControlCommand ChassisSupervisor::frame(MonotonicNanos now) const {
@@ -136,7 +138,8 @@ DriveDecision ChassisSupervisor::drive(ClientId client, const Velocity& target, 
   return decision;
 }
 
-RecordOutcome ChassisSupervisor::record(const PhaseInput& record, MonotonicNanos now) {
+RecordOutcome ChassisSupervisor::record(const RecordInput& input, MonotonicNanos now) {
+  const PhaseInput& record = input.phase;
   RecordOutcome outcome;
   outcome.came_online = !online_;
   online_ = true;
@@ -159,6 +162,16 @@ RecordOutcome ChassisSupervisor::record(const PhaseInput& record, MonotonicNanos
   }
   outcome.response_before = response_.state();
   outcome.response = response_.update(target(), record.stopped, record.measured, record.time);
+  if (phase_of(stage) != ChassisPhase::ready) {
+    hazards_.reset();
+    return outcome;
+  }
+  const HazardSample sample{record.time, record.measured, input.roll, input.pitch, target(), command_velocity(sent_)};
+  if (auto found = hazards_.judge(sample, safety_.has_value())) {
+    Latch latch{found->source, std::move(found->reason), record.time, std::nullopt};
+    estop(latch);
+    outcome.hazard = std::move(latch);
+  }
   return outcome;
 }
 
@@ -172,6 +185,7 @@ bool ChassisSupervisor::expire_online(MonotonicNanos now) {
   if (!deadline || now < *deadline) return false;
   online_ = false;
   phase_tracker_.went_offline();
+  hazards_.reset();
   response_.reset();
   return true;
 }

@@ -21,16 +21,19 @@ double planar_speed(const Velocity& velocity) { return std::hypot(velocity.vx, v
 
 std::optional<HazardFinding> CollisionHazard::judge(const HazardSample& sample, const CollisionLimits& limits) {
   const double speed = planar_speed(sample.measured);
-  const std::optional<Seen> previous = std::exchange(previous_, Seen{sample.time, speed});
+  const std::optional<Seen> previous = std::exchange(previous_, Seen{sample.time, sample.measured});
   if (!limits.enabled || !previous) return std::nullopt;
   const auto interval = sample.time - previous->time;
   if (interval <= std::chrono::nanoseconds::zero() || interval > kMaxInterval) return std::nullopt;
-  const double asked = planar_speed(sample.sent);
-  if (previous->speed - speed <= limits.drop || asked < speed + limits.drop) return std::nullopt;
+  const double previous_speed = planar_speed(previous->measured);
+  if (previous_speed - speed <= limits.drop) return std::nullopt;
+  // The command's part along the way the robot was going (previous_speed > drop > 0).
+  const double asked = (sample.sent.vx * previous->measured.vx + sample.sent.vy * previous->measured.vy) / previous_speed;
+  if (asked < speed + limits.drop) return std::nullopt;
   return HazardFinding{
       LatchSource::collision,
       fmt::format("planar speed fell from {:.2f} to {:.2f} m/s in {:.2f} s while the command asked for {:.2f} m/s",
-                  previous->speed, speed, seconds_between(previous->time, sample.time), asked)};
+                  previous_speed, speed, seconds_between(previous->time, sample.time), asked)};
 }
 
 void TiltHazard::reset() {

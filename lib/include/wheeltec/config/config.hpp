@@ -11,6 +11,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "wheeltec/config/config_document.hpp"
+#include "wheeltec/control/hazards.hpp"
 #include "wheeltec/frames/control_frame.hpp"
 #include "wheeltec/telemetry/odometry.hpp"
 #include "wheeltec/types.hpp"
@@ -63,6 +64,7 @@ struct GatewayConfig {
   } odometry;
   struct Safety {
     std::optional<std::string> state_file;  // null: the latch is kept in memory only
+    HazardLimits hazards;                   // safety.collision, safety.tilt, safety.stall
   } safety;
   struct Api {
     std::string socket = "/run/wheeltecd/wheeltecd.sock";

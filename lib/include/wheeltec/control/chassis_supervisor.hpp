@@ -9,6 +9,7 @@
 #include "wheeltec/control/control_arbiter.hpp"
 #include "wheeltec/frames/control_frame.hpp"
 #include "wheeltec/control/emergency_stop.hpp"
+#include "wheeltec/control/hazards.hpp"
 #include "wheeltec/types.hpp"
 #include "wheeltec/control/velocity_ramp.hpp"
 
@@ -44,6 +45,16 @@ struct DriveDecision {
   bool command_changed = false;         // accepted and the frame differs: send it now
 };
 
+// What the supervisor is told by each accepted record.
+struct RecordInput {
+  PhaseInput phase;  // the record's time, flag_stop and measured velocity
+  double roll = 0.0;   // rad: the attitude estimate after this record
+  double pitch = 0.0;  // rad
+};
+
+// What release does.
+enum class ReleaseOutcome { released, not_latched, still_tilted };
+
 // What a telemetry record changed.
 struct RecordOutcome {
   bool came_online = false;
@@ -54,6 +65,7 @@ struct RecordOutcome {
   bool control_released = false;  // ... and something was driving until then
   CommandResponse response_before = CommandResponse::idle;
   CommandResponse response = CommandResponse::idle;
+  std::optional<Latch> hazard;  // a hazard latched the emergency stop: zero now (a stop)
 };
 
 // Control released by the deadman: its owner stopped driving, or left.
@@ -68,6 +80,7 @@ struct SupervisorSettings {
   std::chrono::nanoseconds telemetry_timeout = std::chrono::milliseconds(500);
   VelocityLimits limits;
   RampLimits ramp;
+  HazardLimits hazards;
 };
 
 // The chassis rules in one place (spec section 2, "Control rules", and section 8): whether
@@ -93,9 +106,10 @@ class ChassisSupervisor {
   DriveDecision drive(ClientId client, const Velocity& target, MonotonicNanos now);
 
   // The emergency stop (spec section 12). estop: true if it latched now (a stop follows);
-  // false while already latched, which changes nothing. release: true if it was latched.
+  // false while already latched, which changes nothing. release: refused while the tilt
+  // that latched it still holds.
   bool estop(const Latch& latch);
-  bool release();
+  ReleaseOutcome release();
   // At start, from the state file: latched as before, without a stop (nothing drives yet).
   void restore(const SafetyState& state) { safety_ = state; }
   const SafetyState& safety() const { return safety_; }
@@ -108,7 +122,10 @@ class ChassisSupervisor {
 
   // The chassis.
   void link_changed(LinkState state);
-  RecordOutcome record(const PhaseInput& record, MonotonicNanos now);
+  // Each record in phase `ready` is judged for the hazards (spec section 12); one found
+  // latches as estop does, and the outcome says so.
+  RecordOutcome record(const RecordInput& record, MonotonicNanos now);
+  RecordOutcome record(const PhaseInput& record, MonotonicNanos now) { return this->record(RecordInput{record}, now); }
   bool expire_online(MonotonicNanos now);  // true if it just went offline
 
   ControlMode mode() const { return mode_; }
@@ -149,6 +166,7 @@ class ChassisSupervisor {
   std::optional<MonotonicNanos> last_record_;
   ChassisPhaseTracker phase_tracker_;
   CommandResponseMonitor response_;
+  HazardJudge hazards_;
 };
 
 }  // namespace wheeltec

@@ -58,7 +58,8 @@ struct HazardFinding {
 double planar_speed(const Velocity& velocity);
 
 // A fall in planar speed of more than `drop` between two records at most 0.15 s apart,
-// while the frame sent asked for at least the later speed + `drop`.
+// while the frame sent asked for at least the later speed + `drop` in the direction the
+// robot was moving (a command to reverse is a commanded slow-down too).
 class CollisionHazard {
  public:
   static constexpr std::chrono::milliseconds kMaxInterval{150};
@@ -68,7 +69,7 @@ class CollisionHazard {
  private:
   struct Seen {
     RealtimeNanos time;
-    double speed;
+    Velocity measured;
   };
   std::optional<Seen> previous_;
 };

@@ -10,6 +10,7 @@
 
 #include "wheeltec/frames/can_frame.hpp"
 #include "wheeltec/telemetry/chassis_tilt.hpp"
+#include "wheeltec/telemetry/odometry.hpp"
 #include "wheeltec/control/controller_phase.hpp"
 #include "wheeltec/frames/control_frame.hpp"
 #include "wheeltec/control/kinematics.hpp"
@@ -47,6 +48,12 @@ struct EmulatorSettings {
   PowerSupply supply = PowerSupply::battery;
   // On the dock: the charger's gain, up to 4.2 V a cell of the pack that `battery_v` suggests.
   double charge_v_per_s = 0.002;
+  // --wall M: the wheels stop dead once the robot is M metres ahead of where it started
+  // (along its heading at the start); driving backward frees it.
+  std::optional<double> wall_m;
+  // --tip-after S: S seconds after power-on the chassis rolls over onto its side (90° more
+  // roll) within 0.5 s, the gyro showing the roll rate and the accelerometer the new gravity.
+  std::optional<std::chrono::nanoseconds> tip_after;
   WheelParameters wheel;  // its wheel_diameter is replaced by the geometry's
   SensorNoise noise;
   std::uint32_t seed = 0;  // sensor noise and encoder start positions
@@ -114,9 +121,15 @@ class ChassisEmulator {
   std::size_t wheel_count() const { return wheels_.size(); }
   const WheelController& wheel(std::size_t index) const { return wheels_.at(index); }
   const ChassisGeometry& geometry() const { return geometry_; }
+  // Where the robot is, from its true motion, in the frame it started in (x ahead).
+  const Pose& position() const { return position_; }
+  bool at_wall() const;    // against --wall's wall, pushing into it
+  double tip_roll() const { return tip_roll_; }  // rad rolled by --tip-after so far
 
  private:
   void run_period();
+  void move(const Velocity& velocity, double dt);
+  void tip(double dt);
   void start_running(AdvanceEvents& events);
   const WheelSpeeds& wheel_targets_now() const;
   void execute(const ControlCommand& command);
@@ -147,6 +160,9 @@ class ChassisEmulator {
   double gyro_z_bias_lsb_;
   double gyro_z_bias_sum_ = 0.0;  // of the samples taken while booting
   int gyro_z_bias_samples_ = 0;
+  Pose position_;
+  double tip_roll_ = 0.0;       // rad
+  double tip_roll_rate_ = 0.0;  // rad/s, during the last period
 };
 
 }  // namespace wheeltec

@@ -40,7 +40,9 @@ class WheelController {
   // One control period: the motor runs for a period on the PWM set last time, the
   // encoder is read, and the PI controller sets the PWM for the next period from
   // `target` (m/s). With `motors_enabled` false the PWM is 0 and the PI starts afresh.
-  void run_period(double target, bool motors_enabled);
+  // A `blocked` wheel (against a wall) does not turn: its speed and counts are 0 while the
+  // PI keeps pushing, as a stalled motor's would.
+  void run_period(double target, bool motors_enabled, bool blocked = false);
 
   double measured_speed() const { return measured_speed_; }  // from the last encoder read, m/s
   // The mean measured speed of the reads since the previous call, at most the last
