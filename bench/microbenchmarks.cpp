@@ -39,6 +39,8 @@
 #include "wheeltec/frames/telemetry_reassembler.hpp"
 #include "wheeltec/frames/telemetry_record.hpp"
 
+namespace {
+
 // Every allocation of the process, so that a benchmark can show that its path makes none.
 std::atomic<std::uint64_t> g_allocations{0};
 

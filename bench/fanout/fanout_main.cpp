@@ -107,7 +107,8 @@ class DaemonPath {  // wheeltecd's telemetry path on its own thread, fed through
       const RealtimeNanos time = received.time != RealtimeNanos{} ? received.time : RealtimeNanos(std::chrono::system_clock::now());
       if (const auto assembled = reassembler_.feed(received.frame, time)) {
         const TelemetrySample& sample = telemetry_.decode(assembled->bytes, assembled->time);
-        control_.record({sample.time, sample.record.stopped, sample.record.velocity});
+        control_.record(RecordInput{{sample.time, sample.record.stopped, sample.record.velocity},
+                                    sample.orientation.roll, sample.orientation.pitch});
         api_.queue_telemetry(sample);
       }
     }

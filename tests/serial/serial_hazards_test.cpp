@@ -14,7 +14,7 @@
 namespace serial_tests {
 namespace {
 
-constexpr int kLatched = -32007;
+constexpr int kEstopLatchedCode = -32007;
 
 class SerialHazards : public EmulatorOnPty {
  protected:
@@ -58,10 +58,15 @@ TEST_F(SerialHazards, HittingAWallLatchesACollisionAndBackingOffWorksAfterReleas
   RpcConnection client = start({"--wall", "0.3"});
   RpcConnection watcher = daemon_->connect();
   watcher.call("subscribe", {{"topics", {"events"}}});
-  const Json safety = drive_until_latched(client, 0.4, 6s);
+  // At 0.6 m/s the stop at the wall falls by more than drop (0.25) between two records
+  // wherever it falls between them; slower, it may show as a stall instead.
+  const Json safety = drive_until_latched(client, 0.6, 6s);
   ASSERT_EQ(safety["latched"], true) << safety.dump() << "\n" << logs();
   EXPECT_EQ(safety["source"], "collision");
-  EXPECT_NE(safety["reason"].get<std::string>().find("planar speed fell from 0.4"), std::string::npos) << safety.dump();
+  const std::string reason = safety["reason"];
+  const std::string from = "planar speed fell from ";
+  ASSERT_EQ(reason.rfind(from, 0), 0u) << reason;
+  EXPECT_GT(std::stod(reason.substr(from.size())), 0.3) << "the speed it hit the wall at: " << reason;
   EXPECT_TRUE(safety["by"].is_null());
   const auto event = estop_event(watcher, 2s);
   ASSERT_TRUE(event) << "no estop event";
@@ -70,7 +75,7 @@ TEST_F(SerialHazards, HittingAWallLatchesACollisionAndBackingOffWorksAfterReleas
   EXPECT_TRUE((*event)["client"].is_null()) << event->dump();
   const Json status = client.call("status");
   EXPECT_EQ(status["control"]["sent"], Json({{"vx", 0.0}, {"vy", 0.0}, {"wz", 0.0}})) << "zero at once";
-  EXPECT_EQ(client.request("drive", {{"vx", 0.4}})["error"]["code"], kLatched);
+  EXPECT_EQ(client.request("drive", {{"vx", 0.4}})["error"]["code"], kEstopLatchedCode);
 
   EXPECT_EQ(client.request("release")["result"], Json::object());
   double slowest = 0.0;
@@ -89,7 +94,7 @@ TEST_F(SerialHazards, PushingSlowlyAgainstAWallLatchesAStall) {
   const Json safety = drive_until_latched(client, 0.15, 8s);
   ASSERT_EQ(safety["latched"], true) << safety.dump() << "\n" << logs();
   EXPECT_EQ(safety["source"], "stall") << "0.15 m/s stopping dead falls by less than drop (0.25)";
-  EXPECT_NE(safety["reason"].get<std::string>().find("no motion for 2.0 s"), std::string::npos) << safety.dump();
+  EXPECT_NE(safety["reason"].get<std::string>().find("no motion for 2."), std::string::npos) << safety.dump();
   // One second to the wall, then two against it.
   EXPECT_GT(seconds_between(started, SteadyClock::now()), 2.5);
 }
@@ -107,7 +112,7 @@ TEST_F(SerialHazards, TippingOverLatchesATiltThatHoldsTheReleaseOff) {
   EXPECT_NE(reason.find("beyond 35°"), std::string::npos) << reason;
   const Json refused = client.request("release");
   ASSERT_TRUE(refused.contains("error")) << refused.dump();
-  EXPECT_EQ(refused["error"]["code"], kLatched);
+  EXPECT_EQ(refused["error"]["code"], kEstopLatchedCode);
   EXPECT_EQ(refused["error"]["data"]["source"], "tilt");
   EXPECT_EQ(client.call("status")["safety"]["latched"], true);
   EXPECT_GT(client.call("telemetry")["orientation"]["roll"].get<double>(), 1.3) << "on its side, radians";

@@ -1,5 +1,7 @@
 #include "wheeltec/control/chassis_supervisor.hpp"
 
+#include <numbers>
+
 #include <gtest/gtest.h>
 
 namespace wheeltec {
@@ -25,7 +27,7 @@ class ChassisSupervisorTest : public ::testing::Test {
 
   // A record `at` after kStart (steady) with the same offset on the record clock.
   RecordOutcome record(std::chrono::nanoseconds at, bool stopped, Velocity measured = {}) {
-    return supervisor_.record({kEpoch + at, stopped, measured}, kStart + at);
+    return supervisor_.record(PhaseInput{kEpoch + at, stopped, measured}, kStart + at);
   }
 
   ChassisSupervisor supervisor_;
@@ -202,8 +204,6 @@ TEST(ChassisSupervisorLatch, TheLatchHoldsOffAClientsEnableButNotTheStartsOwn) {
 namespace wheeltec {
 namespace {
 
-constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
-
 class ChassisSupervisorHazards : public ChassisSupervisorTest {
  protected:
   // Drives `vx` and has its frame sent, at `at`.
@@ -212,7 +212,7 @@ class ChassisSupervisorHazards : public ChassisSupervisorTest {
     supervisor_.frame_sent(supervisor_.frame(kStart + at), kStart + at);
   }
   RecordOutcome tilted_record(std::chrono::nanoseconds at, double roll_deg) {
-    return supervisor_.record(RecordInput{{kEpoch + at, false, {}}, roll_deg * kRadiansPerDegree, 0.0}, kStart + at);
+    return supervisor_.record(RecordInput{{kEpoch + at, false, {}}, roll_deg * std::numbers::pi / 180.0, 0.0}, kStart + at);
   }
 };
 

@@ -138,8 +138,12 @@ void ChassisEmulator::move(const Velocity& velocity, double dt) {
 
 bool ChassisEmulator::at_wall() const {
   if (!settings_.wall_m || position_.x < *settings_.wall_m) return false;
-  // Pushing into it: the commanded motion (the self-test's too) has a part ahead.
-  const Velocity toward = phase() == ControllerPhase::self_test ? Velocity{kSelfTestSpeed, 0.0, 0.0} : target_;
+  // Pushing into it: where the motors' PWM drives the robot has a part ahead (a PI wound up
+  // against the wall keeps pushing for a moment after the command turned back).
+  WheelSpeeds driven;
+  driven.count = wheels_.size();
+  for (std::size_t i = 0; i < wheels_.size(); ++i) driven.v[i] = wheels_[i].driven_speed();
+  const Velocity toward = forward_kinematics(settings_.type, geometry_, driven);
   return toward.vx * std::cos(position_.yaw) - toward.vy * std::sin(position_.yaw) > 0.0;
 }
 

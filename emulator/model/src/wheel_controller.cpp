@@ -45,6 +45,12 @@ void WheelController::run_period(double target, bool motors_enabled, bool blocke
     last_error_ = 0.0;
     return;
   }
+  // Against a wall the integrator would wind up to the PWM limit, and a command to back off
+  // would take seconds to unwind it: while the command keeps pushing, the PWM holds.
+  if (blocked && target * pwm_ > 0.0) {
+    last_error_ = target;
+    return;
+  }
   const double error = target - measured_speed_;
   pwm_ += parameters_.kp * (error - last_error_) + parameters_.ki * error;
   pwm_ = std::clamp(pwm_, -parameters_.pwm_limit, parameters_.pwm_limit);

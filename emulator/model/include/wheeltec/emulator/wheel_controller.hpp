@@ -52,6 +52,7 @@ class WheelController {
   std::int32_t last_counts() const { return last_counts_; }
   double speed() const { return speed_; }                      // the motor's true speed, m/s
   double pwm() const { return pwm_; }
+  double driven_speed() const { return pwm_ * speed_per_pwm_; }  // where the PWM takes the motor, m/s
 
  private:
   WheelParameters parameters_;
