@@ -32,19 +32,12 @@ DaemonSession::DaemonSession(const std::string& socket_path) : client_(connect(s
 }
 
 Json DaemonSession::call(const std::string& method, const Json& params) {
-  bool answered = false;
-  boost::system::error_code result;
-  Json answer;
-  connection().async_call(method, params, [&](boost::system::error_code ec, Json value) {
-    result = ec;
-    answer = std::move(value);
-    answered = true;
-  });
-  io().restart();
-  while (!answered && io().run_one() > 0) {
+  try {
+    return client_.call(method, params);  // an error answer throws RpcError itself
+  } catch (const boost::system::system_error& error) {
+    throw_if_failed(method, error.code(), Json());
+    throw;
   }
-  throw_if_failed(method, result, answer);
-  return answer;
 }
 
 void DaemonSession::throw_if_failed(const std::string& method, boost::system::error_code ec, const Json& answer) {

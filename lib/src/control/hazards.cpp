@@ -2,18 +2,30 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include <fmt/format.h>
 
+#include "wheeltec/telemetry/calibration.hpp"
+
 namespace wheeltec {
 namespace {
+
+using calibration::degrees;
+using calibration::radians;
 
 double seconds_between(RealtimeNanos from, RealtimeNanos to) {
   return std::chrono::duration<double>(to - from).count();
 }
 
-double degrees(double radians) { return radians * 180.0 / std::numbers::pi; }
+// How long `holds` has held without a break, up to `now`; empty when it does not hold now.
+std::optional<double> held_for(std::optional<RealtimeNanos>& since, bool holds, RealtimeNanos now) {
+  if (!holds) {
+    since.reset();
+    return std::nullopt;
+  }
+  if (!since) since = now;
+  return seconds_between(*since, now);
+}
 
 }  // namespace
 
@@ -44,18 +56,13 @@ void TiltHazard::reset() {
 
 std::optional<HazardFinding> TiltHazard::judge(const HazardSample& sample, const TiltLimits& limits) {
   if (!first_record_) first_record_ = sample.time;
-  const double limit = limits.max_deg * std::numbers::pi / 180.0;
+  const double limit = radians(limits.max_deg);
   tilted_ = std::abs(sample.roll) > limit || std::abs(sample.pitch) > limit;
-  if (!tilted_ || sample.time < *first_record_ + kSettle) {
-    beyond_since_.reset();
-    return std::nullopt;
-  }
-  if (!beyond_since_) beyond_since_ = sample.time;
-  const double held = seconds_between(*beyond_since_, sample.time);
-  if (!limits.enabled || held < limits.for_s) return std::nullopt;
+  const auto held = held_for(beyond_since_, tilted_ && sample.time >= *first_record_ + kSettle, sample.time);
+  if (!limits.enabled || !held || *held < limits.for_s) return std::nullopt;
   return HazardFinding{LatchSource::tilt,
                        fmt::format("roll {:.1f}°, pitch {:.1f}°: beyond {:g}° for {:.2f} s", degrees(sample.roll),
-                                   degrees(sample.pitch), limits.max_deg, held)};
+                                   degrees(sample.pitch), limits.max_deg, *held)};
 }
 
 void StallHazard::reset() {
@@ -73,17 +80,12 @@ std::optional<HazardFinding> StallHazard::judge(const HazardSample& sample, cons
   if (driving && (speed >= kMovedPlanar || turn >= kMovedTurn)) moved_ = true;
   const bool still = speed < kStillPlanar && turn < kStillTurn;
   const bool asked = planar_speed(sample.sent) >= kAskedPlanar || std::abs(sample.sent.wz) >= kAskedTurn;
-  if (!moved_ || !still || !asked) {
-    still_since_.reset();
-    return std::nullopt;
-  }
-  if (!still_since_) still_since_ = sample.time;
-  const double held = seconds_between(*still_since_, sample.time);
-  if (!limits.enabled || held < limits.for_s) return std::nullopt;
+  const auto held = held_for(still_since_, moved_ && still && asked, sample.time);
+  if (!limits.enabled || !held || *held < limits.for_s) return std::nullopt;
   return HazardFinding{LatchSource::stall,
                        fmt::format("no motion for {:.1f} s while the command asked for vx {:.2f} m/s, vy {:.2f} m/s, "
                                    "wz {:.2f} rad/s",
-                                   held, sample.sent.vx, sample.sent.vy, sample.sent.wz)};
+                                   *held, sample.sent.vx, sample.sent.vy, sample.sent.wz)};
 }
 
 std::optional<HazardFinding> HazardJudge::judge(const HazardSample& sample, bool latched) {
