@@ -55,14 +55,28 @@ async function main() {
   await call('Emulation.clearDeviceMetricsOverride');
   await call('Page.navigate', { url: `${base}/` });
   for (let i = 0; i < 100 && !(await evaluate(`Boolean(document.querySelector('#records a.view'))`)); ++i) await sleep(100);
-  const box = await evaluate(`(() => { const a = [...document.querySelectorAll('#records a.view')]
-      .find((l) => l.getAttribute('href') === '#record=${encodeURIComponent(name)}');
-    if (!a) return null; a.scrollIntoView(); const r = a.getBoundingClientRect();
-    return { x: r.left + r.width / 2, y: r.top + r.height / 2 }; })()`);
-  if (!box) fail('no view link for the file in the Recordings table');
-  for (const type of ['mousePressed', 'mouseReleased']) {
-    await call('Input.dispatchMouseEvent', { type, x: box.x, y: box.y, button: 'left', clickCount: 1 });
+  // The table is re-rendered by its poll and the page's layout moves while the graphs draw, so a
+  // click aims at the link only once elementFromPoint finds it there, and is tried again if the
+  // hash did not change.
+  const hash = `#record=${encodeURIComponent(name)}`;
+  let clicked = false;
+  for (let attempt = 0; attempt < 10 && !clicked; ++attempt) {
+    const box = await evaluate(`(() => { const a = [...document.querySelectorAll('#records a.view')]
+        .find((l) => l.getAttribute('href') === '${hash}');
+      if (!a) return null; a.scrollIntoView({ block: 'center' }); const r = a.getBoundingClientRect();
+      const x = r.left + r.width / 2, y = r.top + r.height / 2;
+      return { x, y, hit: a.contains(document.elementFromPoint(x, y)) }; })()`);
+    if (!box) fail('no view link for the file in the Recordings table');
+    if (!box.hit) { await sleep(200); continue; }
+    for (const type of ['mousePressed', 'mouseReleased']) {
+      await call('Input.dispatchMouseEvent', { type, x: box.x, y: box.y, button: 'left', clickCount: 1 });
+    }
+    for (let i = 0; i < 20 && !clicked; ++i) {
+      clicked = (await evaluate('location.hash')) === hash;
+      if (!clicked) await sleep(100);
+    }
   }
+  if (!clicked) fail(`clicking the view link did not open ${hash}: ${JSON.stringify(await evaluate(readViewer))}`);
   await shown('table');
   await evaluate(`window.scrollTo(0, 0)`);
   await shoot('viewer.png');
