@@ -94,6 +94,21 @@ int run(const Options& s) {
   const LatencySummary estop =
       summarize(estop_latency(socket, std::max(20, s.commands / 10), [&](int mm_per_s) { return line.await_command(mm_per_s, 1000); }));
   out["wheeltecd"]["estop_latency"] = estop.to_json();
+  std::cerr << "bench: wheeltecd on " << line.slave_path() << ": a collision's record -> zero command frame\n";
+  line.drain();
+  const LatencySummary collision = summarize(collision_latency(
+      socket, std::max(20, s.commands / 10),
+      [&](std::int16_t vx_mm_s) {
+        wheeltec::RawTelemetry raw = bench_record(0);
+        raw.vx = vx_mm_s;
+        const wheeltec::RecordBytes bytes = wheeltec::encode_record(raw);
+        line.write(std::span(bytes).first(bytes.size() - 1));
+        const double start = now_us();
+        line.write(std::span(bytes).last(1));
+        return start;
+      },
+      [&](int mm_per_s) { return line.await_command(mm_per_s, 1000); }));
+  out["wheeltecd"]["collision_latency"] = collision.to_json();
   std::cerr << "bench: wheeltecd on " << line.slave_path() << ": record -> notification\n";
   const TelemetryLatency telemetry = telemetry_latency(socket, 1, s.records, [&](int n) {
     const wheeltec::RecordBytes bytes = wheeltec::encode_record(bench_record(n));
@@ -112,6 +127,8 @@ int run(const Options& s) {
                    pair(command), pair(floor_out));
   t += fmt::format("| the same, a client subscribed to events, n={} | {} | |\n", with_events.count, pair(with_events));
   t += fmt::format("| estop -> zero command frame read on the master, n={} | {} | |\n", estop.count, pair(estop));
+  t += fmt::format("| a collision's record (last byte) -> zero command frame read on the master, n={} | {} | |\n",
+                   collision.count, pair(collision));
   t += fmt::format("| record's last byte -> notification, 1 subscriber, n={} (lost {}) | {} | 24 bytes master -> slave: {} |\n",
                    telemetry.all.count, telemetry.lost, pair(telemetry.all), pair(floor_in));
   return publish_table(t, out, s.json_path);

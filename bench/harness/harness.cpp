@@ -713,6 +713,38 @@ std::vector<double> estop_latency(const std::filesystem::path& socket, int round
   }
   return samples;
 }
+std::vector<double> collision_latency(const std::filesystem::path& socket, int rounds,
+                                      const std::function<double(std::int16_t vx_mm_s)>& write_record,
+                                      const std::function<std::optional<double>(int mm_per_s)>& await_frame) {
+  LineClient driver(socket);
+  LineClient operator_(socket);
+  const auto expect_result = [](const std::string& reply, const char* what) {
+    if (reply.find("\"result\"") == std::string::npos) throw std::runtime_error(std::string(what) + " failed: " + reply);
+  };
+  std::vector<double> samples;
+  for (int i = 0; i < rounds; ++i) {
+    const int mm_per_s = 500 + i % 50;  // a fall to 0 is beyond the default drop (0.25 m/s)
+    driver.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{}}}}})", i + 1,
+                                 mm_per_s / 1000.0));
+    if (!await_frame(mm_per_s)) throw std::runtime_error("collision round " + std::to_string(i + 1) + ": no drive frame");
+    expect_result(driver.read_line(1000), "drive");
+    for (int moving = 0; moving < 2; ++moving) {
+      write_record(static_cast<std::int16_t>(mm_per_s));
+      sleep_ms(50);
+    }
+    const double start = write_record(0);
+    const std::optional<double> zero_us = await_frame(0);
+    if (!zero_us) throw std::runtime_error("collision round " + std::to_string(i + 1) + ": no zero frame within 1 s");
+    samples.push_back(*zero_us - start);
+    const json safety = api_call(socket, "status")["safety"];
+    if (safety.value("source", "") != "collision") {
+      throw std::runtime_error("collision round " + std::to_string(i + 1) + ": latched by " + safety.dump());
+    }
+    operator_.send_line(R"({"jsonrpc":"2.0","id":2,"method":"release"})");
+    expect_result(operator_.read_line(1000), "release");
+  }
+  return samples;
+}
 json TelemetryLatency::to_json() const {
   json j = all.to_json();
   j["lost"] = lost;

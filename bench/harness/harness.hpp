@@ -256,6 +256,13 @@ CommandLatency command_latency(const std::filesystem::path& socket, int commands
 // the first zero frame (await_frame(0)), then `release`: the emergency stop's latency (us).
 std::vector<double> estop_latency(const std::filesystem::path& socket, int rounds,
                                   const std::function<std::optional<double>(int mm_per_s)>& await_frame);
+// `rounds` times: a drive (its frame awaited), two records that show the chassis moving as
+// told, then one that shows it stopped dead (a collision, spec section 12) timed from its
+// last byte (write_record returns now_us() before that byte) to the first zero frame, then
+// `release`: the time from the record that shows a hazard to the zero frame (us).
+std::vector<double> collision_latency(const std::filesystem::path& socket, int rounds,
+                                      const std::function<double(std::int16_t vx_mm_s)>& write_record,
+                                      const std::function<std::optional<double>(int mm_per_s)>& await_frame);
 struct TelemetryLatency {
   LatencySummary all;  // one sample per subscriber and record
   std::size_t lost = 0;
