@@ -16,7 +16,7 @@ install_packages clang-14 libclang-rt-14-dev
 seconds=${FUZZ_SECONDS:-20}
 build=${FUZZ_BUILD_DIR:-$BUILD_DIR-fuzz}
 jobs=${BUILD_JOBS:-2}
-targets=(rpc_line telemetry_frames link_messages candump_log config serial_frames fixed_decimal mqtt_command web_foxglove
+targets=(rpc_line telemetry_frames link_messages candump_log config serial_frames fixed_decimal control mqtt_command web_foxglove
   mcap_reader)
 
 cmake -S "$REPO_ROOT" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${WHEELTEC_FRESH_TREE_OPTIONS[@]}" \

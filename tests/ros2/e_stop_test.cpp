@@ -3,6 +3,8 @@
 // true while latched, also for a subscriber that joins later; e_stop_trigger latching the
 // daemon under a driving cmd_vel; e_stop_reset only with --allow-e-stop-reset; diagnostics
 // ERROR with the source and reason while latched. Each test leaves the daemon released.
+// Ros2Hazard (the same ctest group): an emulator that tips over latches a tilt, and e_stop
+// and diagnostics show it with its figures.
 
 #include <thread>
 
@@ -197,6 +199,44 @@ TEST_F(Ros2Safety, ABridgeStartedWhileLatchedSaysSoAtOnce) {
   // allow_e_stop_reset from the config file.
   ros2_side::EmptyWriter reset(participant(), "rt/e_stop_reset");
   EXPECT_TRUE(reset.wait_matched(kEStopMatchTimeout)) << "allow_e_stop_reset in the config file is not read";
+}
+
+// A hazard (spec section 12) is one more source of the latch: the emulator tips the chassis
+// over 4 s after it starts, and the bridge shows the tilt without code of its own for it.
+class Ros2Hazard : public Ros2Bridge {
+ protected:
+  static void SetUpTestSuite() {
+    integration::GatewayOptions options;
+    options.emulator_arguments = {"--tip-after", "4"};
+    start_shared(options);
+  }
+};
+
+TEST_F(Ros2Hazard, ARobotThatTipsOverShowsTheTiltAndItsFiguresInDiagnosticsAndEStop) {
+  start();
+  BoolReader e_stop(participant(), "rt/e_stop", RosQos::latched);
+  DiagnosticsReader diagnostics(participant(), "rt/diagnostics", RosQos::default_profile);
+  ASSERT_TRUE(e_stop.wait_for([](const BoolReader::Sample& sample) { return sample.message.data(); }, 15s))
+      << "e_stop did not become true when the robot tipped over";
+  const Json latched = gateway().connect().call("status")["safety"];
+  EXPECT_EQ(latched["source"], "tilt") << latched.dump();
+  const std::string expected = "emergency stop latched by tilt: " + latched["reason"].get<std::string>();
+  EXPECT_EQ(latched["reason"].get<std::string>().rfind("roll ", 0), 0u) << latched.dump();
+  const auto error = diagnostics.wait_for(
+      [&](const DiagnosticsReader::Sample& sample) {
+        return !sample.message.status().empty() &&
+               sample.message.status().front().level() == diagnostic_msgs::msg::DiagnosticStatus_Constants::ERROR &&
+               sample.message.status().front().message() == expected;
+      },
+      3s);
+  EXPECT_TRUE(error) << "no ERROR diagnostics \"" << expected << "\"; last: "
+                     << (diagnostics.samples().empty() || diagnostics.samples().back().message.status().empty()
+                             ? std::string("none")
+                             : diagnostics.samples().back().message.status().front().message());
+  // On its side the release is refused, so e_stop stays true.
+  EXPECT_EQ(gateway().connect().request("release")["error"]["code"], -32007);
+  std::this_thread::sleep_for(500ms);
+  EXPECT_TRUE(e_stop.samples().back().message.data());
 }
 
 }  // namespace
