@@ -167,7 +167,7 @@ std::unique_ptr<ChildProcess> keep_publishing(const Broker& broker, const std::f
 }
 
 Robot::Robot(std::filesystem::path directory, std::string name, std::string interface, const Broker& broker,
-             Json bridge_config)
+             Json bridge_config, std::vector<std::string> emulator_arguments)
     : directory_(std::move(directory)),
       name_(std::move(name)),
       interface_(std::move(interface)),
@@ -175,6 +175,7 @@ Robot::Robot(std::filesystem::path directory, std::string name, std::string inte
       gateway_((std::filesystem::create_directories(directory_), directory_), [&] {
         integration::GatewayOptions options;
         options.interface = interface_;
+        options.emulator_arguments = std::move(emulator_arguments);
         return options;
       }()),
       bridge_config_(directory_ / "wheeltec-mqtt.json") {

@@ -91,8 +91,9 @@ std::unique_ptr<ChildProcess> keep_publishing(const Broker& broker, const std::f
 // One robot: its emulator and daemon on `interface`, and its bridge.
 class Robot {
  public:
+  // `emulator_arguments`: extra flags of its wheeltec-emu (e.g. --tip-after S).
   Robot(std::filesystem::path directory, std::string name, std::string interface, const Broker& broker,
-        Json bridge_config = Json::object());
+        Json bridge_config = Json::object(), std::vector<std::string> emulator_arguments = {});
   void start();  // emulator, daemon (online), bridge
   void start_bridge();
   ChildProcess& bridge() { return *bridge_; }

@@ -46,10 +46,13 @@ class MqttFleet : public ::testing::Test {
     delete r2_;
     delete broker_;
     delete directory_;
+    r1_ = r2_ = nullptr;  // the next suite of the session starts its own
+    broker_ = nullptr;
+    directory_ = nullptr;
   }
 
   void TearDown() override {
-    if (HasFailure()) std::cerr << broker_->logs() << r1_->logs() << r2_->logs();
+    if (HasFailure()) std::cerr << broker_->logs() << r1_->logs() << (r2_ ? r2_->logs() : std::string());
   }
 
   // The bridge is up once its retained `online` says true.
@@ -449,6 +452,48 @@ TEST_F(MqttSafety, AReleaseLeftRetainedReleasesNothing) {
   EXPECT_EQ(status["safety"]["reason"], "before the bridge came back");
   fleet::publish(*broker_, dir(), "wheeltec/r2/cmd/release", "", {"-r"});  // clears it (and is a release)
   EXPECT_TRUE(not_latched(status_when(*r2_, not_latched)));
+}
+
+// A hazard (spec section 12) is one more source of the latch: r1's emulator tips the chassis
+// over 3 s after it starts, and the bridge's retained status carries the tilt with its figures,
+// with no code of its own for it. A fleet of one, in mqtt.Safety's session.
+class MqttHazard : public MqttSafety {
+ protected:
+  static void SetUpTestSuite() {
+    directory_ = new integration::TestDirectory();
+    broker_ = new fleet::Broker(directory_->path());
+    broker_->start();
+    r1_ = new fleet::Robot(*directory_ / "r1", "r1", "vcan0", *broker_, Json::object(), {"--tip-after", "3"});
+    r1_->start();
+    wait_online(*r1_);
+  }
+};
+
+TEST_F(MqttHazard, ARobotThatTipsOverShowsTheTiltAndItsFiguresInItsRetainedStatus) {
+  fleet::Subscription status(*broker_, dir(), {r1_->topic("status")});
+  const auto tipped = status.wait_for_message(
+      [](const fleet::Subscription::Message& message) {
+        const Json seen = Json::parse(message.payload, nullptr, false);
+        return seen.is_object() && latched(seen);
+      },
+      10s);
+  ASSERT_TRUE(tipped) << "the status never showed the latch";
+  const Json safety = Json::parse(tipped->payload)["safety"];
+  EXPECT_EQ(safety["source"], "tilt") << safety.dump();
+  const std::string reason = safety.value("reason", "");
+  EXPECT_EQ(reason.rfind("roll ", 0), 0u) << safety.dump();
+  EXPECT_NE(reason.find("beyond 35°"), std::string::npos) << safety.dump();
+  EXPECT_TRUE(safety["by"].is_null()) << safety.dump();
+  EXPECT_EQ(safety["reason"], r1_->gateway().connect().call("status")["safety"]["reason"]) << "the daemon's own";
+
+  // cmd/release is answered with the daemon's refusal while the robot lies on its side.
+  fleet::Subscription results(*broker_, dir(), {r1_->topic("cmd/result")});
+  fleet::publish(*broker_, dir(), r1_->topic("cmd/release"), R"({"id":"rel"})");
+  const auto answer = reply_with_id(results, "rel");
+  ASSERT_TRUE(answer) << "no reply to release";
+  EXPECT_EQ(answer->value("/error/code"_json_pointer, 0), -32007) << answer->dump();
+  EXPECT_EQ(answer->value("/error/data/source"_json_pointer, std::string()), "tilt") << answer->dump();
+  EXPECT_TRUE(latched(status_when(*r1_, latched)));
 }
 
 }  // namespace
