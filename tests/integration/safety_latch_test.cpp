@@ -70,7 +70,9 @@ TEST_F(SafetyLatch, EstopPutsZeroOnTheBusAtOnceAndHoldsItUntilRelease) {
   EXPECT_GE(controls, 18) << "20 Hz for 1.2 s";
   EXPECT_GE(enables, 1) << "enable_refresh_s 1.0";
   for (const auto& f : held) {
-    if (is_control_frame(f.frame)) EXPECT_TRUE(is_zero_control_frame(f.frame)) << to_text(f.frame);
+    if (is_control_frame(f.frame)) {
+      EXPECT_TRUE(is_zero_control_frame(f.frame)) << to_text(f.frame);
+    }
   }
 
   EXPECT_EQ(operator_.request("release")["result"], Json::object()) << "root has control rights";

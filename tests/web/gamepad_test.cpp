@@ -118,7 +118,9 @@ class WebGamepad : public SerialWebTest {
                       << want.y << " " << want.z;
         break;  // one per phase
       }
-      if (want.x || want.y || want.z) EXPECT_GE(judged, 5u) << "too few frames while driving";
+      if (want.x || want.y || want.z) {
+        EXPECT_GE(judged, 5u) << "too few frames while driving";
+      }
     }
   }
 };

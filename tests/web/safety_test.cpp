@@ -3,7 +3,7 @@
 // drive from the joystick is refused, Release is refused without the token and works with
 // it; POST /api/estop and /api/release answer {} or the daemon's error with its code; npm's
 // Foxglove client latches on /wheeltec/estop without the token and releases on
-// /wheeltec/release with it. Frames are judged where the controller reads them (the serial
+// /wheeltec/release with it; a tilt the daemon latched by itself shows on the banner. Frames are judged where the controller reads them (the serial
 // suite's fake controller, serial_web.hpp), natively.
 
 #include <gtest/gtest.h>
@@ -132,6 +132,53 @@ TEST_F(WebSafety, ThePagesEStopLatchesTheBannerShowsItAndOnlyTheTokensReleaseCle
   ASSERT_TRUE(status) << report();
   EXPECT_TRUE(status->exited_with(0)) << report();
   EXPECT_TRUE(std::filesystem::exists(std::string(WHEELTEC_WEB_SCREENSHOTS) + "/estop.png"));
+  chromium.terminate();
+}
+
+// A hazard (spec section 12) is one more source of the latch: the controller's records turn
+// to show the chassis on its side, the daemon latches a tilt, and the open page's banner
+// shows its source and figures with no code of its own for it.
+TEST_F(WebSafety, ATiltLatchedByTheDaemonShowsOnTheBannerWithItsSourceAndFigures) {
+  start_web(kSafetyPort);
+  const auto directory = directory_->path();
+  const auto home = directory / "chromium-home";
+  std::filesystem::create_directories(home);
+  std::filesystem::create_directories(WHEELTEC_WEB_SCREENSHOTS);
+  ChildProcess chromium("chromium", "/usr/bin/chromium",
+                        {"--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                         "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                         "--user-data-dir=" + (directory / "chromium-profile").string(), "--window-size=1280,1100",
+                         "--remote-debugging-port=" + std::to_string(kSafetyDevToolsPort),
+                         "http://127.0.0.1:" + std::to_string(kSafetyPort) + "/?token=" + kToken},
+                        directory, {{"HOME", home.string()}});
+  ChildProcess driver("browser", "/usr/bin/node",
+                      {WHEELTEC_WEB_CLIENTS "/banner_browser.cjs", std::to_string(kSafetyDevToolsPort),
+                       WHEELTEC_WEB_SCREENSHOTS},
+                      directory, {{"NODE_PATH", WHEELTEC_WEB_NODE_MODULES}});
+  const auto report = [&] { return driver.output_report() + logs() + web_logs() + chromium.output_report(); };
+  ASSERT_TRUE(wait_event(driver, "live", 40s)) << report();
+
+  wheeltec::RawTelemetry on_its_side = fake_->telemetry();
+  on_its_side.accel_x = 0;
+  on_its_side.accel_y = 16400;  // gravity along y: rolled 90 degrees
+  on_its_side.accel_z = 0;
+  fake_->set_telemetry(on_its_side);
+  ASSERT_TRUE(wait_event(driver, "latched", 20s)) << report();
+  const Json latched = safety();
+  EXPECT_EQ(latched["source"], "tilt") << latched;
+  const std::string reason = latched["reason"];
+  EXPECT_EQ(reason.rfind("roll ", 0), 0u) << reason;
+  const std::string banner = events_of(driver)["latched"]["banner"];
+  EXPECT_NE(banner.find("source: tilt"), std::string::npos) << banner;
+  EXPECT_NE(banner.find("reason: " + reason), std::string::npos) << banner;
+  EXPECT_NE(banner.find("since"), std::string::npos) << banner;
+  const auto status = driver.wait_for_exit(10s);
+  ASSERT_TRUE(status && status->exited_with(0)) << report();
+  // On its side the release is refused, with the daemon's reason.
+  const HttpAnswer refused = post(std::string("/api/release?token=") + kToken);
+  EXPECT_NE(refused.status, 200) << refused.head << refused.body;
+  EXPECT_EQ(Json::parse(refused.body, nullptr, false)["code"], -32007) << refused.body;
+  EXPECT_EQ(safety()["latched"], true);
   chromium.terminate();
 }
 

@@ -41,7 +41,9 @@ class WebViewer : public SerialWebTest {
     fake_->follow_commands();
     for (int i = 0; i < 20; ++i) {
       EXPECT_TRUE(client.request("drive", {{"vx", 0.2}, {"wz", 0.3}}).contains("result"));
-      if (i == 15) EXPECT_TRUE(client.request("mark", {{"text", "viewer test"}}).contains("result"));
+      if (i == 15) {
+        EXPECT_TRUE(client.request("mark", {{"text", "viewer test"}}).contains("result"));
+      }
       std::this_thread::sleep_for(100ms);
     }
     EXPECT_TRUE(client.request("stop").contains("result"));
