@@ -688,28 +688,37 @@ CommandLatency command_latency(const std::filesystem::path& socket, int commands
   client.read_line(1000);
   return result;
 }
+namespace {
+void expect_result(const std::string& reply, const char* what) {
+  if (reply.find("\"result\"") == std::string::npos) throw std::runtime_error(std::string(what) + " failed: " + reply);
+}
+// Round `round` of a latch measurement: a drive at mm_per_s, its frame awaited and its answer read.
+void drive_for_round(LineClient& driver, int round, int mm_per_s, const char* measurement,
+                     const std::function<std::optional<double>(int mm_per_s)>& await_frame) {
+  driver.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{}}}}})", round,
+                               mm_per_s / 1000.0));
+  if (!await_frame(mm_per_s)) throw std::runtime_error(fmt::format("{} round {}: no drive frame", measurement, round));
+  expect_result(driver.read_line(1000), "drive");
+}
+void release(LineClient& operator_) {
+  operator_.send_line(R"({"jsonrpc":"2.0","id":2,"method":"release"})");
+  expect_result(operator_.read_line(1000), "release");
+}
+}  // namespace
 std::vector<double> estop_latency(const std::filesystem::path& socket, int rounds,
                                   const std::function<std::optional<double>(int mm_per_s)>& await_frame) {
   LineClient driver(socket);
   LineClient operator_(socket);
-  const auto expect_result = [](const std::string& reply, const char* what) {
-    if (reply.find("\"result\"") == std::string::npos) throw std::runtime_error(std::string(what) + " failed: " + reply);
-  };
   std::vector<double> samples;
   for (int i = 0; i < rounds; ++i) {
-    const int mm_per_s = 150 + i % 50;
-    driver.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{}}}}})", i + 1,
-                                 mm_per_s / 1000.0));
-    if (!await_frame(mm_per_s)) throw std::runtime_error("estop round " + std::to_string(i + 1) + ": no drive frame");
-    expect_result(driver.read_line(1000), "drive");
+    drive_for_round(driver, i + 1, 150 + i % 50, "estop", await_frame);
     const double start = now_us();
     operator_.send_line(R"({"jsonrpc":"2.0","id":1,"method":"estop","params":{"reason":"bench"}})");
     const std::optional<double> zero_us = await_frame(0);
     if (!zero_us) throw std::runtime_error("estop round " + std::to_string(i + 1) + ": no zero frame within 1 s");
     samples.push_back(*zero_us - start);
     expect_result(operator_.read_line(1000), "estop");
-    operator_.send_line(R"({"jsonrpc":"2.0","id":2,"method":"release"})");
-    expect_result(operator_.read_line(1000), "release");
+    release(operator_);
   }
   return samples;
 }
@@ -718,16 +727,10 @@ std::vector<double> collision_latency(const std::filesystem::path& socket, int r
                                       const std::function<std::optional<double>(int mm_per_s)>& await_frame) {
   LineClient driver(socket);
   LineClient operator_(socket);
-  const auto expect_result = [](const std::string& reply, const char* what) {
-    if (reply.find("\"result\"") == std::string::npos) throw std::runtime_error(std::string(what) + " failed: " + reply);
-  };
   std::vector<double> samples;
   for (int i = 0; i < rounds; ++i) {
     const int mm_per_s = 500 + i % 50;  // a fall to 0 is beyond the default drop (0.25 m/s)
-    driver.send_line(fmt::format(R"({{"jsonrpc":"2.0","id":{},"method":"drive","params":{{"vx":{}}}}})", i + 1,
-                                 mm_per_s / 1000.0));
-    if (!await_frame(mm_per_s)) throw std::runtime_error("collision round " + std::to_string(i + 1) + ": no drive frame");
-    expect_result(driver.read_line(1000), "drive");
+    drive_for_round(driver, i + 1, mm_per_s, "collision", await_frame);
     for (int moving = 0; moving < 2; ++moving) {
       write_record(static_cast<std::int16_t>(mm_per_s));
       sleep_ms(50);
@@ -740,8 +743,7 @@ std::vector<double> collision_latency(const std::filesystem::path& socket, int r
     if (safety.value("source", "") != "collision") {
       throw std::runtime_error("collision round " + std::to_string(i + 1) + ": latched by " + safety.dump());
     }
-    operator_.send_line(R"({"jsonrpc":"2.0","id":2,"method":"release"})");
-    expect_result(operator_.read_line(1000), "release");
+    release(operator_);
   }
   return samples;
 }

@@ -34,6 +34,22 @@ class WebSafety : public SerialWebTest {
   }
   // The daemon's `safety` as its status shows it.
   Json safety() { return status()["safety"]; }
+  // Headless Chromium on the page with the token, for DevTools on kSafetyDevToolsPort.
+  std::unique_ptr<ChildProcess> start_chromium_on_the_page() {
+    const auto directory = directory_->path();
+    const auto home = directory / "chromium-home";
+    std::filesystem::create_directories(home);
+    std::filesystem::create_directories(WHEELTEC_WEB_SCREENSHOTS);
+    return std::make_unique<ChildProcess>(
+        "chromium", "/usr/bin/chromium",
+        std::vector<std::string>{"--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                                 "--user-data-dir=" + (directory / "chromium-profile").string(),
+                                 "--window-size=1280,1100",
+                                 "--remote-debugging-port=" + std::to_string(kSafetyDevToolsPort),
+                                 "http://127.0.0.1:" + std::to_string(kSafetyPort) + "/?token=" + kToken},
+        directory, ChildProcess::Environment{{"HOME", home.string()}});
+  }
   // Every frame from `from` on is zero.
   ::testing::AssertionResult all_zero_from(std::size_t from) const {
     const auto commands = fake_->commands();
@@ -67,17 +83,9 @@ bool wait_event(const ChildProcess& driver, const std::string& name, std::chrono
 TEST_F(WebSafety, ThePagesEStopLatchesTheBannerShowsItAndOnlyTheTokensReleaseClearsIt) {
   start_web(kSafetyPort);
   const auto directory = directory_->path();
-  const auto home = directory / "chromium-home";
-  std::filesystem::create_directories(home);
-  std::filesystem::create_directories(WHEELTEC_WEB_SCREENSHOTS);
   const auto go_on = directory / "release-now";
-  ChildProcess chromium("chromium", "/usr/bin/chromium",
-                        {"--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                         "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                         "--user-data-dir=" + (directory / "chromium-profile").string(), "--window-size=1280,1100",
-                         "--remote-debugging-port=" + std::to_string(kSafetyDevToolsPort),
-                         "http://127.0.0.1:" + std::to_string(kSafetyPort) + "/?token=" + kToken},
-                        directory, {{"HOME", home.string()}});
+  const auto chromium_process = start_chromium_on_the_page();
+  ChildProcess& chromium = *chromium_process;
   const std::size_t before = fake_->command_count();
   ChildProcess driver("browser", "/usr/bin/node",
                       {WHEELTEC_WEB_CLIENTS "/estop_browser.cjs", std::to_string(kSafetyDevToolsPort),
@@ -141,16 +149,8 @@ TEST_F(WebSafety, ThePagesEStopLatchesTheBannerShowsItAndOnlyTheTokensReleaseCle
 TEST_F(WebSafety, ATiltLatchedByTheDaemonShowsOnTheBannerWithItsSourceAndFigures) {
   start_web(kSafetyPort);
   const auto directory = directory_->path();
-  const auto home = directory / "chromium-home";
-  std::filesystem::create_directories(home);
-  std::filesystem::create_directories(WHEELTEC_WEB_SCREENSHOTS);
-  ChildProcess chromium("chromium", "/usr/bin/chromium",
-                        {"--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                         "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                         "--user-data-dir=" + (directory / "chromium-profile").string(), "--window-size=1280,1100",
-                         "--remote-debugging-port=" + std::to_string(kSafetyDevToolsPort),
-                         "http://127.0.0.1:" + std::to_string(kSafetyPort) + "/?token=" + kToken},
-                        directory, {{"HOME", home.string()}});
+  const auto chromium_process = start_chromium_on_the_page();
+  ChildProcess& chromium = *chromium_process;
   ChildProcess driver("browser", "/usr/bin/node",
                       {WHEELTEC_WEB_CLIENTS "/banner_browser.cjs", std::to_string(kSafetyDevToolsPort),
                        WHEELTEC_WEB_SCREENSHOTS},
