@@ -34,8 +34,11 @@ pids+=($!)
 for _ in $(seq 50); do [[ ${link[0]} != --serial || -e $work/tty ]] && break; sleep 0.1; done
 "$build/daemon/wheeltecd" --config "$work/empty.json" "${link[@]}" --socket "$work/wheeltecd.sock" --log-level warn >"$work/daemon.log" 2>&1 &
 pids+=($!)
+# The page drives (the gamepad's latency) with this token.
+token=bench-$RANDOM$RANDOM
+(umask 077 && echo "$token" >"$work/token")
 "$build/web/wheeltec-web" --config "$work/empty.json" --socket "$work/wheeltecd.sock" --listen "127.0.0.1:$port" --page-dir "$repo/web/page" \
-  --log-level warn >"$work/web.log" 2>&1 &
+  --token-file "$work/token" --log-level warn >"$work/web.log" 2>&1 &
 web_pid=$!
 pids+=("$web_pid")
 # A second instance over TLS, with a self-signed certificate for 127.0.0.1 that node trusts.
@@ -69,6 +72,6 @@ if [[ $browser != --no-browser ]]; then
     --disable-background-networking --disable-component-update --disable-sync --user-data-dir="$work/profile" \
     --remote-debugging-port=9224 about:blank >"$work/chromium.log" 2>&1 &
   pids+=($!)
-  args+=(--devtools 9224)
+  args+=(--devtools 9224 --token "$token")
 fi
 NODE_PATH=$node_modules NODE_EXTRA_CA_CERTS=$work/cert.pem node "$here/web_bench.cjs" "${args[@]}"

@@ -111,12 +111,82 @@ const pageProbe = `(() => {
   Object.assign(window.WebSocket, { CONNECTING: 0, OPEN: 1, CLOSING: 2, CLOSED: 3 });
 })();`;
 
+// A gamepad behind navigator.getGamepads (headless Chromium has none), as the web.Gamepad test
+// mocks it: __benchPad.set(axes, held) moves it, and the first poll of the page that reads it
+// afterwards is stamped (wall clock, s) in __benchPad.polledAt.
+const padMock = `(() => {
+  const pad = { id: 'Bench Pad (STANDARD GAMEPAD)', index: 0, connected: true, mapping: 'standard', axes: [0, 0, 0, 0],
+                timestamp: 0, buttons: Array.from({ length: 17 }, () => ({ pressed: false, touched: false, value: 0 })) };
+  let pending = false;
+  window.__benchPad = {
+    polledAt: null,
+    set(axes, held) {
+      pad.axes = axes.slice();
+      pad.buttons.forEach((b, i) => { b.pressed = held.includes(i); b.value = b.pressed ? 1 : 0; });
+      pad.timestamp = performance.now();
+      this.polledAt = null;
+      pending = true;
+    },
+  };
+  Object.defineProperty(navigator, 'getGamepads', { configurable: true, value: () => {
+    if (pending) { pending = false; window.__benchPad.polledAt = (performance.timeOrigin + performance.now()) / 1000; }
+    return [pad];
+  } });
+})();`;
+
+// A JSON-RPC client of wheeltecd subscribed to events: each drive event's time (the daemon's
+// clock when it had written the frame) and vx.
+function driveEvents(path) {
+  const drives = [];
+  const socket = net.createConnection(path, () => {
+    socket.write('{"jsonrpc":"2.0","id":1,"method":"subscribe","params":{"topics":["events"]}}\n');
+  });
+  let buffered = '';
+  socket.on('data', (chunk) => {
+    buffered += chunk;
+    for (let end; (end = buffered.indexOf('\n')) >= 0; buffered = buffered.slice(end + 1)) {
+      const message = JSON.parse(buffered.slice(0, end));
+      if (message.method === 'event' && message.params.event === 'drive') {
+        drives.push({ time: message.params.time, vx: message.params.vx });
+      }
+    }
+  });
+  return { drives, close: () => socket.destroy() };
+}
+
+// `rounds` times, LB held and the left stick at a new position: the page's poll that reads it
+// -> the daemon's drive event for that vx (the frame is written before the event is built).
+async function gamepadLatencies(evaluate, rounds) {
+  const events = driveEvents(options.socket);
+  await sleep(300);
+  const latencies = new Latencies();
+  const missed = [];
+  for (let i = 0; i < rounds; ++i) {
+    const stick = 0.5 + 0.4 * (i % 2) + 0.002 * i;  // a changed vx each round
+    const from = events.drives.length;
+    await evaluate(`window.__benchPad.set([0, ${-stick}, 0, 0], [4])`);
+    // DevTools calls are slow in User-Mode Linux: the page is asked once, when the drive came.
+    let drive = null;
+    for (let wait = 0; wait < 400 && !drive; ++wait) {
+      await sleep(5);
+      drive = events.drives.slice(from).find((d) => d.vx > 0);
+    }
+    const polledAt = drive ? await evaluate('window.__benchPad.polledAt') : null;
+    if (polledAt) latencies.values.push((drive.time - polledAt) * 1000); else missed.push(i);
+    await sleep(100);
+  }
+  await evaluate('window.__benchPad.set([0, 0, 0, 0], [])');  // LB released: the page stops
+  await sleep(300);
+  events.close();
+  return { ...latencies.summary(), missed: missed.length };
+}
+
 async function browserLatencies(port, pageUrl, daemonLatencies) {
   const devtools = await openPage(port, 300);
   if (!devtools) fail('no page target in Chromium');
   const { call, evaluate } = devtools;
   await call('Page.enable');
-  await call('Page.addScriptToEvaluateOnNewDocument', { source: pageProbe });
+  await call('Page.addScriptToEvaluateOnNewDocument', { source: pageProbe + padMock });
   await call('Page.navigate', { url: pageUrl });
   for (let i = 0; i < 300 && !await evaluate('document.body && document.body.dataset.live === "true"'); ++i) await sleep(200);
   await sleep(2000);  // past the page's start-up
@@ -126,8 +196,22 @@ async function browserLatencies(port, pageUrl, daemonLatencies) {
   daemonLatencies.recording = false;
   const page = new Latencies();
   page.values = (await evaluate('window.__benchRecording = false, window.__benchLatencies')) || [];
+  console.error('web_bench: the page in Chromium done');
+  // The gamepad's figure sets the page's clock against the daemon's: inside User-Mode Linux
+  // Chromium's drifts (the page's own figure above shows it), and the rounds are not run.
+  const before = nowS();
+  const pageClock = await evaluate('(performance.timeOrigin + performance.now()) / 1000');
+  const clockOffsetMs = (pageClock - (before + nowS()) / 2) * 1000;
+  const padStart = nowS();
+  const clocksAgree = Math.abs(clockOffsetMs) < 20;
+  const gamepad = !options.token ? null
+    : clocksAgree ? await gamepadLatencies(evaluate, Math.max(20, seconds * 4))
+    : { n: 0, skipped: `the page's clock is ${clockOffsetMs.toFixed(0)} ms off this machine's` };
+  if (gamepad && !gamepad.skipped) {
+    console.error(`web_bench: gamepad done in ${(nowS() - padStart).toFixed(1)} s (${gamepad.n} timed, ${gamepad.missed} missed)`);
+  }
   devtools.close();
-  return page;
+  return { page, gamepad };
 }
 
 // wheeltec-web's system calls (strace -c -f -p) over `windowS`, per record the daemon published
@@ -219,7 +303,8 @@ function syscallLine(what, s) {
 }
 
 async function main() {
-  setTimeout(() => fail('timed out'), (4 * seconds + 240) * 1000).unref();  // Chromium in User-Mode Linux loads slowly
+  // Chromium in User-Mode Linux loads slowly; the gamepad's rounds take up to 2 s each there.
+  setTimeout(() => fail('timed out'), (12 * seconds + 300) * 1000).unref();
   const plain = await foxgloveRound(options.url.replace(/^http/, 'ws'), options.webPid);
   const result = { viewers, seconds, foxglove: { daemon: plain.daemon, viewers: plain.viewers, relayed: plain.relayed },
                    relay_floor: plain.relay_floor, cpu: plain.cpu, syscalls: plain.syscalls, added: plain.added, memory: plain.memory };
@@ -227,9 +312,10 @@ async function main() {
   if (options.devtools) {
     const daemonAgain = new Latencies();
     const again = await daemonSubscriber(options.socket, daemonAgain);
-    const page = await browserLatencies(options.devtools, options.url + '/', daemonAgain);
+    const pageUrl = options.url + '/' + (options.token ? `?token=${encodeURIComponent(options.token)}` : '');
+    const { page, gamepad } = await browserLatencies(options.devtools, pageUrl, daemonAgain);
     again.destroy();
-    result.browser = { daemon: daemonAgain.summary(), page: page.summary() };
+    result.browser = { daemon: daemonAgain.summary(), page: page.summary(), gamepad };
   }
   const lines = ['| 0x103 frame -> message | n | p50 ms | p99 ms | max ms |', '|---|---|---|---|---|',
     row('wheeltecd subscriber (same run)', result.foxglove.daemon), row(`${viewers} Foxglove clients via wheeltec-web`, result.foxglove.viewers)];
@@ -238,6 +324,14 @@ async function main() {
                                                                                               result.tls.viewers));
   if (result.browser) lines.push(row('wheeltecd subscriber (browser run)', result.browser.daemon),
                                  row('the page in headless Chromium', result.browser.page));
+  if (result.browser?.gamepad?.skipped) {
+    lines.push(`gamepad: the page's poll -> wheeltecd's drive event: not timed (${result.browser.gamepad.skipped})`);
+  } else if (result.browser?.gamepad) {
+    const g = result.browser.gamepad;
+    lines.push(`gamepad: the page's poll that reads a moved stick (LB held) -> wheeltecd's drive event, its frame written: ` +
+               `p50 ${g.p50_ms?.toFixed(2)} ms, p99 ${g.p99_ms?.toFixed(2)} ms, max ${g.max_ms?.toFixed(2)} ms ` +
+               `(n=${g.n}, ${g.missed} missed; the page polls every 50 ms)`);
+  }
   lines.push(addedLine('', result.added));
   if (result.tls) lines.push(addedLine(' over wss://', result.tls.added));
   if (result.relay_floor) lines.push(floorLine('', result.relay_floor));
@@ -249,7 +343,9 @@ async function main() {
   console.log(lines.join('\n'));
   console.log(JSON.stringify(result));
   if (!result.foxglove.viewers.n || !result.foxglove.daemon.n || (result.browser && !result.browser.page.n) ||
-      (result.tls && !result.tls.viewers.n)) fail('some client received nothing');
+      (result.tls && !result.tls.viewers.n) || (result.browser?.gamepad && !result.browser.gamepad.skipped && !result.browser.gamepad.n)) {
+    fail('some client received nothing');
+  }
   process.exit(0);
 }
 
