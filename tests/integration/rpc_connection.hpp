@@ -31,15 +31,20 @@ class RpcConnection {
   // Writes `line` and a newline. Returns false when the daemon closed the connection.
   bool send_line(std::string_view line);
 
+  // How long a request waits for its response by default: well beyond any answer's time,
+  // so that a host that stalls the whole machine (User-Mode Linux on a loaded host) for a
+  // second or two does not fail a test that is not about latency.
+  static constexpr std::chrono::milliseconds kResponseTimeout{5000};
+
   // Sends a request with a fresh id and returns the whole response object.
   // Throws when no response with that id arrives within `timeout`.
   Json request(const std::string& method, const Json& params = nullptr,
-               std::chrono::milliseconds timeout = std::chrono::seconds(2));
+               std::chrono::milliseconds timeout = kResponseTimeout);
   // Like request(), but returns `result` and throws when the response is an error.
   Json call(const std::string& method, const Json& params = nullptr,
-            std::chrono::milliseconds timeout = std::chrono::seconds(2));
+            std::chrono::milliseconds timeout = kResponseTimeout);
   // Sends a hand-written line and returns the response with id `id`.
-  Json request_line(std::string_view line, const Json& id, std::chrono::milliseconds timeout = std::chrono::seconds(2));
+  Json request_line(std::string_view line, const Json& id, std::chrono::milliseconds timeout = kResponseTimeout);
 
   // The next message of any kind, or empty on timeout or end of stream.
   std::optional<Json> next_message(std::chrono::milliseconds timeout);
