@@ -27,6 +27,7 @@ SupervisorSettings supervisor_settings(const GatewayConfig& config) {
   settings.limits = config.control.limits;
   settings.ramp = config.control.ramp;
   settings.hazards = config.safety.hazards;
+  settings.disable_on_exit = config.control.disable_on_exit;
   return settings;
 }
 
@@ -34,146 +35,120 @@ ControlLoop::ControlLoop(const ControlPorts& ports, ChassisSupervisor& superviso
                          EventSink& events)
     : ports_(ports), supervisor_(supervisor), config_(config), events_(events) {
   ports_.period_timer.on_tick([this] { on_period(); });
+  supervisor_.apply(settings());
+}
+
+SupervisorSettings ControlLoop::settings() const {
+  SupervisorSettings settings = supervisor_settings(config_);
+  settings.command_follows_enable = ports_.link.refreshes_enable();
+  return settings;
 }
 
 void ControlLoop::may_have_changed() {
   if (change_handler_) change_handler_();
 }
 
-void ControlLoop::send_frame() {
-  if (supervisor_.link() == LinkState::down) return;
-  const MonotonicNanos now = ports_.clock.now();
-  const ControlCommand frame = supervisor_.frame(now);
-  if (ports_.link.send_command(frame)) supervisor_.frame_sent(frame, now);
-}
-
-void ControlLoop::send_zero_now() {
-  cancel_deadman();
-  send_frame();
-}
-
-void ControlLoop::send_enable(bool enable) {
-  if (supervisor_.link() == LinkState::down) return;
-  ports_.link.send_enable(enable);
+void ControlLoop::carry_out(const ControlActions& actions, MonotonicNanos now) {
+  if (actions.deadman == DeadmanTimer::cancel) cancel_deadman();
+  for (const LinkSend what : actions.sends()) {
+    switch (what) {
+      case LinkSend::command: {
+        const ControlCommand frame = supervisor_.frame(now);
+        if (ports_.link.send_command(frame)) supervisor_.frame_sent(frame, now);
+        break;
+      }
+      case LinkSend::enable_frame: ports_.link.send_enable(true); break;
+      case LinkSend::disable_frame: ports_.link.send_enable(false); break;
+    }
+  }
+  switch (actions.periods) {
+    case ControlPeriods::keep: break;
+    case ControlPeriods::start:
+      start_periodic();
+      ports_.stall_guard.beat();
+      start_enable_refresh();
+      break;
+    case ControlPeriods::stop:
+      ports_.period_timer.stop();
+      ports_.stall_guard.disarm();
+      ports_.enable_timer.cancel();
+      break;
+  }
+  if (actions.beat) ports_.stall_guard.beat();
+  if (actions.deadman == DeadmanTimer::arm) arm_deadman();
+  if (actions.lapse) report_lapse(*actions.lapse, now);
+  if (actions.latched) report_latched(*actions.latched);
+  if (actions.released) report_released(*actions.released);
+  if (actions.control_enabled) spdlog::info("control {}", *actions.control_enabled ? "enabled" : "disabled");
+  if (actions.status_changed) may_have_changed();
 }
 
 void ControlLoop::start() {
-  if (!supervisor_.start()) return;
-  // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
-  send_frame();
+  if (supervisor_.mode() != ControlMode::not_started) return;
+  carry_out(supervisor_.start(), ports_.clock.now());
   ports_.stall_guard.start();
   if (config_.control.auto_enable) enable(EnableRequest::at_start);
 }
 
 DriveResult ControlLoop::drive(ClientId client, const Velocity& target) {
+  const MonotonicNanos now = ports_.clock.now();
   DriveResult result;
-  result.decision = supervisor_.drive(client, target, ports_.clock.now());
+  result.decision = supervisor_.drive(client, target, now);
   if (result.decision.refusal) return result;
-  if (result.decision.command_changed) send_frame();  // the periodic schedule carries on unchanged
-  arm_deadman();
+  carry_out(result.decision.actions, now);
   result.sent = supervisor_.target();
   result.clamped = supervisor_.command().clamped;
-  may_have_changed();
   return result;
 }
 
-void ControlLoop::stop() {
-  supervisor_.stop();
-  send_zero_now();  // always, even when the target already was zero
-  may_have_changed();
-}
+void ControlLoop::stop() { carry_out(supervisor_.stop(), ports_.clock.now()); }
 
 EnableOutcome ControlLoop::enable(EnableRequest request) {
-  const EnableOutcome outcome = supervisor_.enable(request);
-  if (outcome == EnableOutcome::already_enabled) send_enable(true);
-  if (outcome != EnableOutcome::enabled) return outcome;
-  spdlog::info("control enabled");
-  send_enable(true);
-  // A command follows the enable frame (the manual dialect) at once; without one the
-  // start's zero frame was the last and the periodic frames carry on.
-  if (ports_.link.refreshes_enable()) send_frame();
-  start_periodic();
-  ports_.stall_guard.beat();
-  start_enable_refresh();
-  may_have_changed();
-  return outcome;
+  const EnableDecision decision = supervisor_.enable(request);
+  carry_out(decision.actions, ports_.clock.now());
+  return decision.outcome;
 }
 
 bool ControlLoop::estop(const Latch& latch) {
-  if (!supervisor_.estop(latch)) return false;
-  on_latched(latch);
-  return true;
+  const ControlActions actions = supervisor_.estop(latch);
+  carry_out(actions, ports_.clock.now());
+  return actions.latched.has_value();
 }
 
-void ControlLoop::on_latched(const Latch& latch) {
-  send_zero_now();
+void ControlLoop::report_latched(const Latch& latch) {
   spdlog::warn("emergency stop latched ({}{}{}): zero velocity until release", to_string(latch.source),
                latch.reason.empty() ? "" : ": ", latch.reason);
-  latch_changed();
+  ports_.latch_store.save(supervisor_.safety());
   events_.publish(latch.source == LatchSource::client ? latch.by : std::nullopt,
                   events::Estop{latch.source, latch.reason});
-  may_have_changed();
 }
 
 ReleaseOutcome ControlLoop::release(std::optional<ClientId> by) {
-  const ReleaseOutcome outcome = supervisor_.release();
-  if (outcome != ReleaseOutcome::released) return outcome;
-  spdlog::info("emergency stop released{}", by ? fmt::format(" by client {}", *by) : "");
-  latch_changed();
-  events_.publish(by, events::Release{});
-  may_have_changed();
-  return outcome;
+  const ReleaseDecision decision = supervisor_.release(by);
+  carry_out(decision.actions, ports_.clock.now());
+  return decision.outcome;
 }
 
-void ControlLoop::latch_changed() { ports_.latch_store.save(supervisor_.safety()); }
-
-void ControlLoop::disable() {
-  const bool was_enabled = supervisor_.disable();
-  send_zero_now();
-  send_enable(false);
-  ports_.period_timer.stop();
-  ports_.stall_guard.disarm();
-  ports_.enable_timer.cancel();
-  if (was_enabled) spdlog::info("control disabled");
-  may_have_changed();
+void ControlLoop::report_released(const LatchCleared& cleared) {
+  spdlog::info("emergency stop released{}", cleared.by ? fmt::format(" by client {}", *cleared.by) : "");
+  ports_.latch_store.save(supervisor_.safety());
+  events_.publish(cleared.by, events::Release{});
 }
 
-void ControlLoop::client_gone(ClientId client) {
-  const auto lapse = supervisor_.client_gone(client);
-  if (!lapse) return;
-  const MonotonicNanos now = ports_.clock.now();
-  service::log_limited(released_log_, now, spdlog::level::info, "client {} gone while holding control: zero velocity",
-                       client);
-  send_zero_now();
-  report_lapse(*lapse, now);
-  may_have_changed();
-}
+void ControlLoop::disable() { carry_out(supervisor_.disable(), ports_.clock.now()); }
 
-void ControlLoop::link_changed(LinkState state) {
-  const LinkState before = supervisor_.link();
-  supervisor_.link_changed(state);
-  const bool started = supervisor_.mode() != ControlMode::not_started && supervisor_.mode() != ControlMode::shut_down;
-  if (state == LinkState::up && before == LinkState::down && started) {
-    send_frame();  // zero, whatever the target
-    if (supervisor_.enabled()) {
-      send_enable(true);
-      if (!(supervisor_.frame(ports_.clock.now()) == ControlCommand{})) send_frame();  // then the target
-    }
-  }
-  may_have_changed();
-}
+void ControlLoop::client_gone(ClientId client) { carry_out(supervisor_.client_gone(client), ports_.clock.now()); }
+
+void ControlLoop::link_changed(LinkState state) { carry_out(supervisor_.link_changed(state), ports_.clock.now()); }
 
 void ControlLoop::record(const RecordInput& record) {
-  const RecordOutcome outcome = supervisor_.record(record, ports_.clock.now());
-  if (outcome.hazard) on_latched(*outcome.hazard);
-  if (outcome.came_online && supervisor_.enabled()) send_enable(true);
+  const MonotonicNanos now = ports_.clock.now();
+  const RecordOutcome outcome = supervisor_.record(record, now);
   if (outcome.stage_changed && outcome.stage) log_stage_change(outcome.previous_stage, *outcome.stage);
-  if (outcome.zeroed) {
-    if (outcome.control_released) {
-      spdlog::warn("chassis {}: target zeroed and control released", to_string(phase_of(*outcome.stage)));
-    }
-    send_zero_now();
+  if (outcome.control_released) {
+    spdlog::warn("chassis {}: target zeroed and control released", to_string(phase_of(*outcome.stage)));
   }
+  carry_out(outcome.actions, now);
   log_command_response(outcome.response_before, outcome.response, config_);
   if (!offline_expiry_) arm_offline_timer();
 }
@@ -197,14 +172,9 @@ void ControlLoop::arm_offline_timer() {
 }
 
 void ControlLoop::shutdown() {
-  ports_.period_timer.stop();
-  ports_.stall_guard.disarm();
-  ports_.enable_timer.cancel();
   ports_.offline_timer.cancel();
   offline_expiry_.reset();
-  supervisor_.shut_down();
-  send_zero_now();
-  if (config_.control.disable_on_exit) send_enable(false);
+  carry_out(supervisor_.shut_down(), ports_.clock.now());
 }
 
 void ControlLoop::apply(const GatewayConfig& config) {
@@ -212,10 +182,7 @@ void ControlLoop::apply(const GatewayConfig& config) {
   const bool refresh_changed = config.control.enable_refresh_s != config_.control.enable_refresh_s;
   const bool timeout_changed = config.telemetry.timeout_s != config_.telemetry.timeout_s;
   config_ = config;
-  const ControlCommand before = supervisor_.command();
-  supervisor_.apply(supervisor_settings(config_));
-  // New limits apply to the current target at once.
-  if (!(supervisor_.command() == before) && supervisor_.enabled()) send_frame();
+  carry_out(supervisor_.apply(settings()), ports_.clock.now());
   if (period_changed) ports_.stall_guard.set_rate(config_.control.rate_hz);
   if (supervisor_.enabled() && period_changed) start_periodic();
   if (supervisor_.enabled() && refresh_changed) start_enable_refresh();
@@ -229,19 +196,7 @@ void ControlLoop::apply(const GatewayConfig& config) {
 
 void ControlLoop::start_periodic() { ports_.period_timer.start(timer_interval(1.0 / config_.control.rate_hz)); }
 
-void ControlLoop::on_period() {
-  if (!supervisor_.enabled()) return;
-  // When the loop runs late, this tick and the deadman's wait can complete in the same turn,
-  // this one first: a lapsed target must not go out in a periodic frame. Without an owner
-  // there is no deadline, and no need to read the clock.
-  if (!supervisor_.deadman_deadline() || !release_if_lapsed()) {
-    const ControlCommand before = supervisor_.sent();
-    send_frame();
-    // A ramp moves what the frames carry (status control.sent) without a request.
-    if (!(supervisor_.sent() == before)) may_have_changed();
-  }
-  ports_.stall_guard.beat();
-}
+void ControlLoop::on_period() { carry_out(supervisor_.period(ports_.clock.now()), ports_.clock.now()); }
 
 void ControlLoop::start_enable_refresh() {
   if (!ports_.link.refreshes_enable()) {
@@ -256,8 +211,8 @@ void ControlLoop::start_enable_refresh() {
 void ControlLoop::arm_enable_timer() {
   ports_.enable_timer.wait_until(next_enable_, [this] {
     if (!supervisor_.enabled()) return;
-    send_enable(true);
     const auto current = ports_.clock.now();
+    carry_out(supervisor_.refresh_enable(), current);
     next_enable_ += enable_refresh_;
     if (next_enable_ <= current) next_enable_ = current + enable_refresh_;
     arm_enable_timer();
@@ -282,25 +237,20 @@ void ControlLoop::arm_deadman() {
   deadman_expiry_ = *deadline;
   ports_.deadman_timer.wait_until(*deadline, [this] {
     deadman_expiry_.reset();
-    // Not lapsed: a drive moved the deadline since the wait was armed.
-    if (!release_if_lapsed() && supervisor_.deadman_deadline()) arm_deadman();
+    const MonotonicNanos now = ports_.clock.now();
+    carry_out(supervisor_.expire_deadman(now), now);
   });
 }
 
-bool ControlLoop::release_if_lapsed() {
-  const MonotonicNanos now = ports_.clock.now();
-  const auto lapse = supervisor_.expire_deadman(now);
-  if (!lapse) return false;
-  service::log_limited(released_log_, now, spdlog::level::info,
-                       "client {} stopped driving for {:g} s: zero velocity, control released", lapse->owner,
-                       config_.control.command_timeout_s);
-  send_zero_now();
-  report_lapse(*lapse, now);
-  may_have_changed();
-  return true;
-}
-
 void ControlLoop::report_lapse(const ControlLapse& lapse, MonotonicNanos now) {
+  if (lapse.cause == LapseCause::owner_gone) {
+    service::log_limited(released_log_, now, spdlog::level::info, "client {} gone while holding control: zero velocity",
+                         lapse.owner);
+  } else {
+    service::log_limited(released_log_, now, spdlog::level::info,
+                         "client {} stopped driving for {:g} s: zero velocity, control released", lapse.owner,
+                         config_.control.command_timeout_s);
+  }
   if (lapse.moving) events_.publish(lapse.owner, events::Deadman{now - lapse.last_drive});
 }
 

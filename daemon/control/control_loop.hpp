@@ -20,18 +20,16 @@ struct DriveResult {
 };
 
 // The chassis supervisor's hands and clock: it tells the supervisor what happened, with the
-// time, and carries out what the supervisor decides on the link, with the timing of the
-// contract (spec "CAN side" and section 8): the command frame every 1/rate_hz while enabled
-// plus one at once when the target changes, the enable frame when control becomes enabled
-// and every enable_refresh_s where the link wants it, the first frame zero (at start and
-// whenever the link comes back), a timer at the
-// owner's deadline (the deadman, no polling) and one at the chassis' offline deadline, zero
-// then disable on shutdown; and, while control is enabled, the stall guard's heartbeat. A
-// deadman that stops a moving chassis is reported to the events.
+// time, and carries out the ControlActions the supervisor returns on the link, the timers and
+// the stall guard. What it keeps is the timing of the contract (spec "CAN side" and section
+// 8): the period timer every 1/rate_hz while enabled, the enable frame's refresh every
+// enable_refresh_s where the link has one, a timer at the owner's deadline (the deadman, no
+// polling) and one at the chassis' offline deadline; and the reports: the latch kept in the
+// state file, the log, the events (a deadman that stops a moving chassis among them).
 class ControlLoop {
  public:
   // Something the status shows may have changed; the handler compares the status (the one
-  // place that does). Not called for record(): its caller compares after every record.
+  // place that does). For record() only on a stop or a latch: its caller compares after every record.
   using ChangeHandler = std::function<void()>;
 
   // The ports, the supervisor and the events must outlive the loop.
@@ -68,24 +66,22 @@ class ControlLoop {
   void apply(const GatewayConfig& config);
 
  private:
-  // The supervisor's frame now, unless the link is down (link_changed() catches up).
-  void send_frame();
-  // Every stop's last step: no deadman left to fire, the (zero) frame out at once.
-  void send_zero_now();
-  void send_enable(bool enable);
+  // The supervisor's settings: the configuration's, and whether the link's enable frame takes
+  // a command after it.
+  SupervisorSettings settings() const;
+  // What the supervisor decided, done at `now` in ControlActions' order.
+  void carry_out(const ControlActions& actions, MonotonicNanos now);
   void start_periodic();
   void on_period();
   void start_enable_refresh();
   void arm_enable_timer();
   void arm_deadman();
   void cancel_deadman();
-  void latch_changed();
-  // Latched now (by estop or a hazard; the supervisor has zeroed): the zero frame at once,
-  // the state file, the log and the event.
-  void on_latched(const Latch& latch);
-  // If the owner's deadline has passed: zero frame, control released; true if so.
-  bool release_if_lapsed();
-  // Control lapsed at `now` (zero already sent): the deadman event, if the chassis was moving.
+  // The latch set or cleared: the state file, the log and the event.
+  void report_latched(const Latch& latch);
+  void report_released(const LatchCleared& cleared);
+  // Control lapsed at `now` (zero already sent): the log and, if the chassis was moving, the
+  // deadman event.
   void report_lapse(const ControlLapse& lapse, MonotonicNanos now);
   void arm_offline_timer();
   void may_have_changed();

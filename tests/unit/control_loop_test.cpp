@@ -54,9 +54,9 @@ struct PublishedEvent {
 // The simulated clock, bus, timers, stall guard and events: time moves only in advance_to().
 class Simulation : public MonotonicClock, public CommandSink, public StallGuard, public EventSink, public LatchStore {
  public:
-  explicit Simulation(Dialect dialect) : dialect_(dialect) {}
+  explicit Simulation(Dialect dialect, bool serial = false) : serial_(serial), dialect_(dialect) {}
 
-  bool serial_ = false;  // the serial line: no enable frame whatever the dialect
+  const bool serial_;  // the serial line: no enable frame whatever the dialect
 
   class Timer : public OneShotTimer, public SimulatedEvent {
    public:
@@ -195,8 +195,8 @@ int enable_frames(const std::vector<BusFrame>& frames, bool flag) {
 
 class ControlLoopTest : public ::testing::Test {
  protected:
-  explicit ControlLoopTest(Dialect dialect = Dialect::manual)
-      : sim_(dialect), config_(config_for(dialect)), supervisor_(supervisor_settings(config_)),
+  explicit ControlLoopTest(Dialect dialect = Dialect::manual, bool serial = false)
+      : sim_(dialect, serial), config_(config_for(dialect)), supervisor_(supervisor_settings(config_)),
         loop_(sim_.ports(), supervisor_, config_, sim_) {
     loop_.link_changed(LinkState::up);
     loop_.on_change([this] { ++changes_; });
@@ -748,7 +748,7 @@ TEST_F(ControlLoop0x181Test, NoEnableFramesAndTheDeadmanStillLapses) {
 // port is the only frame until the periods (or a target) follow.
 class ControlLoopSerialTest : public ControlLoopTest {
  protected:
-  ControlLoopSerialTest() { sim_.serial_ = true; }
+  ControlLoopSerialTest() : ControlLoopTest(Dialect::manual, true) {}
 };
 
 TEST_F(ControlLoopSerialTest, OneZeroAtStartThenThePeriods) {

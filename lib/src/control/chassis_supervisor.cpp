@@ -5,11 +5,13 @@ namespace wheeltec {
 ChassisSupervisor::ChassisSupervisor(const SupervisorSettings& settings)
     : settings_(settings), arbiter_(settings.command_timeout), hazards_(settings.hazards) {}
 
-void ChassisSupervisor::apply(const SupervisorSettings& settings) {
+ControlActions ChassisSupervisor::apply(const SupervisorSettings& settings) {
   settings_ = settings;
   arbiter_.set_command_timeout(settings.command_timeout);
   hazards_.set_limits(settings.hazards);
-  update_command();  // new limits apply to the current target at once
+  ControlActions actions;
+  if (update_command() && enabled()) send(actions, LinkSend::command);
+  return actions;
 }
 
 bool ChassisSupervisor::update_command() {
@@ -19,47 +21,98 @@ bool ChassisSupervisor::update_command() {
   return changed;
 }
 
-void ChassisSupervisor::zero() {
+void ChassisSupervisor::send(ControlActions& actions, LinkSend what) const {
+  if (link_ == LinkState::up) actions.send(what);
+}
+
+void ChassisSupervisor::stop_into(ControlActions& actions) {
   arbiter_.stop();
   update_command();
   zero_next_ = true;
+  actions.deadman = DeadmanTimer::cancel;
+  send(actions, LinkSend::command);  // always, even when the target already was zero
+  actions.status_changed = true;
 }
 
-bool ChassisSupervisor::start() {
-  if (mode_ != ControlMode::not_started) return false;
+ControlActions ChassisSupervisor::start() {
+  ControlActions actions;
+  if (mode_ != ControlMode::not_started) return actions;
   mode_ = ControlMode::awaiting_first_zero;
-  return true;
+  // A chassis still moving under a previous (crashed) daemon stops: the first frame is zero.
+  send(actions, LinkSend::command);
+  return actions;
 }
 
-EnableOutcome ChassisSupervisor::enable(EnableRequest request) {
-  if (safety_ && request == EnableRequest::client) return EnableOutcome::estop_latched;
-  if (mode_ == ControlMode::enabled) return EnableOutcome::already_enabled;
-  if (mode_ != ControlMode::disabled && mode_ != ControlMode::awaiting_first_zero) return EnableOutcome::unavailable;
+void ChassisSupervisor::enable_into(ControlActions& actions) {
   mode_ = ControlMode::enabled;
-  return EnableOutcome::enabled;
+  send(actions, LinkSend::enable_frame);
+  // Without a command after the enable frame, the start's zero frame was the last and the
+  // periodic frames carry on.
+  if (settings_.command_follows_enable) send(actions, LinkSend::command);
+  actions.periods = ControlPeriods::start;
+  actions.control_enabled = true;
+  actions.status_changed = true;
 }
 
-bool ChassisSupervisor::disable() {
-  zero();
-  if (mode_ != ControlMode::enabled) return false;
-  mode_ = ControlMode::disabled;
-  return true;
+EnableDecision ChassisSupervisor::enable(EnableRequest request) {
+  EnableDecision decision{EnableOutcome::enabled, {}};
+  if (safety_ && request == EnableRequest::client) {
+    decision.outcome = EnableOutcome::estop_latched;
+  } else if (mode_ == ControlMode::enabled) {
+    decision.outcome = EnableOutcome::already_enabled;
+    send(decision.actions, LinkSend::enable_frame);
+  } else if (mode_ != ControlMode::disabled && mode_ != ControlMode::awaiting_first_zero) {
+    decision.outcome = EnableOutcome::unavailable;
+  } else {
+    enable_into(decision.actions);
+  }
+  return decision;
 }
 
-void ChassisSupervisor::stop() { zero(); }
+ControlActions ChassisSupervisor::disable() {
+  ControlActions actions;
+  stop_into(actions);
+  send(actions, LinkSend::disable_frame);
+  actions.periods = ControlPeriods::stop;
+  if (mode_ == ControlMode::enabled) {
+    mode_ = ControlMode::disabled;
+    actions.control_enabled = false;
+  }
+  return actions;
+}
 
-bool ChassisSupervisor::estop(const Latch& latch) {
+ControlActions ChassisSupervisor::stop() {
+  ControlActions actions;
+  stop_into(actions);
+  return actions;
+}
+
+bool ChassisSupervisor::latch_into(const Latch& latch, ControlActions& actions) {
   if (safety_) return false;
   safety_ = latch;
-  zero();
+  stop_into(actions);
+  actions.latched = latch;
   return true;
 }
 
-ReleaseOutcome ChassisSupervisor::release() {
-  if (!safety_) return ReleaseOutcome::not_latched;
-  if (safety_->source == LatchSource::tilt && hazards_.tilted()) return ReleaseOutcome::still_tilted;
-  safety_.reset();
-  return ReleaseOutcome::released;
+ControlActions ChassisSupervisor::estop(const Latch& latch) {
+  ControlActions actions;
+  latch_into(latch, actions);
+  return actions;
+}
+
+ReleaseDecision ChassisSupervisor::release(std::optional<ClientId> by) {
+  ReleaseDecision decision{ReleaseOutcome::released, {}};
+  if (!safety_) {
+    decision.outcome = ReleaseOutcome::not_latched;
+  } else if (safety_->source == LatchSource::tilt && hazards_.tilted()) {
+    decision.outcome = ReleaseOutcome::still_tilted;
+  } else {
+    safety_.reset();
+    decision.actions.released = LatchCleared{by};
+    decision.actions.status_changed = true;
+  }
+  return decision;
 }
 
 ControlCommand ChassisSupervisor::frame(MonotonicNanos now) const {
@@ -79,35 +132,60 @@ void ChassisSupervisor::frame_sent(const ControlCommand& frame, MonotonicNanos n
   ramp_from_time_ = now;
 }
 
-void ChassisSupervisor::link_changed(LinkState state) {
+ControlActions ChassisSupervisor::link_changed(LinkState state) {
+  ControlActions actions;
+  actions.status_changed = true;
+  const bool returned = state == LinkState::up && link_ == LinkState::down;
+  link_ = state;
+  if (!returned) return actions;
   // What the chassis did while the link was gone is not known: zero first, then the target
   // (ramped from zero).
-  if (state == LinkState::up && link_ == LinkState::down) zero_next_ = true;
-  link_ = state;
+  zero_next_ = true;
+  if (mode_ == ControlMode::not_started || mode_ == ControlMode::shut_down) return actions;
+  send(actions, LinkSend::command);
+  if (enabled()) {
+    send(actions, LinkSend::enable_frame);
+    // The frame after that zero: a ramp starts from it, so only without one does the target go now.
+    if (!settings_.ramp.any() && !(command_ == ControlCommand{})) send(actions, LinkSend::command);
+  }
+  return actions;
 }
 
-std::optional<ControlLapse> ChassisSupervisor::lapse() const {
+std::optional<ControlLapse> ChassisSupervisor::lapse(LapseCause cause) const {
   if (!arbiter_.owner()) return std::nullopt;
-  return ControlLapse{*arbiter_.owner(), *arbiter_.last_drive(), command_.x != 0 || command_.y != 0 || command_.z != 0};
+  return ControlLapse{*arbiter_.owner(), *arbiter_.last_drive(), command_.x != 0 || command_.y != 0 || command_.z != 0,
+                      cause};
 }
 
-std::optional<ControlLapse> ChassisSupervisor::client_gone(ClientId client) {
-  const auto lapsed = lapse();
-  if (!arbiter_.release(client)) return std::nullopt;
-  zero();
-  return lapsed;
+ControlActions ChassisSupervisor::client_gone(ClientId client) {
+  ControlActions actions;
+  const auto lapsed = lapse(LapseCause::owner_gone);
+  if (!arbiter_.release(client)) return actions;
+  stop_into(actions);
+  actions.lapse = lapsed;
+  return actions;
 }
 
-std::optional<ControlLapse> ChassisSupervisor::expire_deadman(MonotonicNanos now) {
-  const auto lapsed = lapse();
-  if (!arbiter_.expire(now)) return std::nullopt;
-  zero();
-  return lapsed;
+ControlActions ChassisSupervisor::expire_deadman(MonotonicNanos now) {
+  ControlActions actions;
+  const auto lapsed = lapse(LapseCause::deadman);
+  if (!arbiter_.expire(now)) {
+    if (arbiter_.deadline()) actions.deadman = DeadmanTimer::arm;  // a drive moved the deadline
+    return actions;
+  }
+  stop_into(actions);
+  actions.lapse = lapsed;
+  return actions;
 }
 
-void ChassisSupervisor::shut_down() {
-  zero();
+ControlActions ChassisSupervisor::shut_down() {
+  ControlActions actions;
+  stop_into(actions);
+  if (settings_.disable_on_exit) send(actions, LinkSend::disable_frame);
+  actions.periods = ControlPeriods::stop;
+  actions.status_changed = false;  // the daemon is stopping: no status goes out after this
   mode_ = ControlMode::shut_down;
+  return actions;
 }
 
 DriveDecision ChassisSupervisor::drive(ClientId client, const Velocity& target, MonotonicNanos now) {
@@ -134,8 +212,33 @@ DriveDecision ChassisSupervisor::drive(ClientId client, const Velocity& target, 
     decision.owner = arbiter_.owner();
     return decision;
   }
-  decision.command_changed = update_command();
+  // A new target goes at once; the periodic schedule carries on unchanged.
+  if (update_command()) send(decision.actions, LinkSend::command);
+  decision.actions.deadman = DeadmanTimer::arm;
+  decision.actions.status_changed = true;
   return decision;
+}
+
+ControlActions ChassisSupervisor::period(MonotonicNanos now) {
+  ControlActions actions;
+  if (!enabled()) return actions;
+  // When the loop runs late, the period and the deadman's wait can come in the same turn, the
+  // period first: a lapsed target must not go out in a periodic frame.
+  actions = expire_deadman(now);
+  if (!actions.lapse) {
+    actions.deadman = DeadmanTimer::keep;
+    send(actions, LinkSend::command);
+    // A ramp moves what the frames carry (status control.sent) without a request.
+    actions.status_changed = !(frame(now) == sent_);
+  }
+  actions.beat = true;
+  return actions;
+}
+
+ControlActions ChassisSupervisor::refresh_enable() {
+  ControlActions actions;
+  if (enabled()) send(actions, LinkSend::enable_frame);
+  return actions;
 }
 
 RecordOutcome ChassisSupervisor::record(const RecordInput& input, MonotonicNanos now) {
@@ -157,21 +260,21 @@ RecordOutcome ChassisSupervisor::record(const RecordInput& input, MonotonicNanos
     if (entered == ChassisPhase::booting || entered == ChassisPhase::self_test) {
       outcome.control_released = arbiter_.owner().has_value() || target() != Velocity{};
       outcome.zeroed = true;
-      stop();
     }
   }
+  if (outcome.zeroed) stop_into(outcome.actions);
   outcome.response_before = response_.state();
   outcome.response = response_.update(target(), record.stopped, record.measured, record.time);
   if (phase_of(stage) != ChassisPhase::ready) {
     hazards_.reset();
-    return outcome;
+  } else {
+    const HazardSample sample{record.time, record.measured, input.roll, input.pitch, target(), command_velocity(sent_)};
+    if (auto found = hazards_.judge(sample, safety_.has_value())) {
+      latch_into(Latch{found->source, std::move(found->reason), record.time, std::nullopt}, outcome.actions);
+    }
   }
-  const HazardSample sample{record.time, record.measured, input.roll, input.pitch, target(), command_velocity(sent_)};
-  if (auto found = hazards_.judge(sample, safety_.has_value())) {
-    Latch latch{found->source, std::move(found->reason), record.time, std::nullopt};
-    estop(latch);
-    outcome.hazard = std::move(latch);
-  }
+  // After a stop's zero: the enable frame a returning chassis needs.
+  if (outcome.came_online && enabled()) send(outcome.actions, LinkSend::enable_frame);
   return outcome;
 }
 

@@ -6,6 +6,7 @@
 #include "wheeltec/control/chassis_phase.hpp"
 #include "wheeltec/clocks.hpp"
 #include "wheeltec/control/command_response.hpp"
+#include "wheeltec/control/control_actions.hpp"
 #include "wheeltec/control/control_arbiter.hpp"
 #include "wheeltec/frames/control_frame.hpp"
 #include "wheeltec/control/emergency_stop.hpp"
@@ -42,7 +43,12 @@ struct DriveDecision {
   std::optional<DriveRefusal> refusal;  // empty: accepted
   std::optional<ChassisPhase> phase;    // with chassis_not_ready
   std::optional<ClientId> owner;        // with control_held
-  bool command_changed = false;         // accepted and the frame differs: send it now
+  ControlActions actions;               // accepted: the command at once if it changed, the deadman armed
+};
+
+struct EnableDecision {
+  EnableOutcome outcome;
+  ControlActions actions;
 };
 
 // What the supervisor is told by each accepted record.
@@ -55,24 +61,22 @@ struct RecordInput {
 // What release does.
 enum class ReleaseOutcome { released, not_latched, still_tilted };
 
-// What a telemetry record changed.
+struct ReleaseDecision {
+  ReleaseOutcome outcome;
+  ControlActions actions;
+};
+
+// What a telemetry record changed. A hazard that latched the emergency stop is actions.latched.
 struct RecordOutcome {
   bool came_online = false;
   std::optional<ChassisStage> previous_stage;  // when the stage changed
   std::optional<ChassisStage> stage;
   bool stage_changed = false;
-  bool zeroed = false;            // booting or self-test entered: target zero, no owner; send it now
+  bool zeroed = false;            // booting or self-test entered: target zero, no owner (a stop)
   bool control_released = false;  // ... and something was driving until then
   CommandResponse response_before = CommandResponse::idle;
   CommandResponse response = CommandResponse::idle;
-  std::optional<Latch> hazard;  // a hazard latched the emergency stop: zero now (a stop)
-};
-
-// Control released by the deadman: its owner stopped driving, or left.
-struct ControlLapse {
-  ClientId owner = 0;
-  MonotonicNanos last_drive{};  // the owner's last accepted drive
-  bool moving = false;          // the command was not zero until then
+  ControlActions actions;
 };
 
 struct SupervisorSettings {
@@ -81,35 +85,47 @@ struct SupervisorSettings {
   VelocityLimits limits;
   RampLimits ramp;
   HazardLimits hazards;
+  bool disable_on_exit = false;  // control.disable_on_exit: shut_down() sends the disable frame after the zero
+  // The link's enable frame is followed by a command at once (CAN's manual dialect).
+  bool command_follows_enable = false;
 };
 
-// The chassis rules in one place (spec section 2, "Control rules", and section 8): whether
-// a drive may go out and why not, the owner and the deadman, the controller's phases and
-// what entering one does, whether the chassis is online and follows its commands. Pure:
-// events come in with the time, the adapter around it sends what it decides.
+// The chassis rules in one place (spec section 2, "Control rules", and sections 8 and 12):
+// whether a drive may go out and why not, the owner and the deadman, the emergency stop's
+// latch and the hazards, the acceleration limits, the controller's phases and what entering
+// one does, whether the chassis is online and follows its commands. Pure: each event comes in
+// with the time, and what it calls for comes back as ControlActions, which the control loop
+// carries out on its link and timers. Three rules live here only: a stop (stop, disable, the
+// owner gone, the deadman, estop, a hazard, shut_down, a boot or self-test entered) zeroes the
+// target, cancels the deadman and sends the zero frame at once, unramped; the first frame after
+// start and after the link's return is zero; nothing is sent while the link is down.
 class ChassisSupervisor {
  public:
   explicit ChassisSupervisor(const SupervisorSettings& settings);
 
-  void apply(const SupervisorSettings& settings);
+  // New settings (SIGHUP): new limits apply to the current target at once.
+  ControlActions apply(const SupervisorSettings& settings);
 
-  // Control. A stop (stop, disable, the owner gone, the deadman, estop, shut_down, a boot
-  // or self-test entered) sets the target to zero and the next frame to zero, unramped.
-  // The first frame after start and after the link comes back is zero too.
-  bool start();                // the start-up zero frame
-  EnableOutcome enable(EnableRequest request);
-  bool disable();              // true if control was enabled until now; target zero, no owner
-  void stop();                 // target zero, no owner (always sent)
-  std::optional<ControlLapse> client_gone(ClientId client);        // set if it held control
-  std::optional<ControlLapse> expire_deadman(MonotonicNanos now);  // set if the owner's deadline passed
-  void shut_down();
+  // Control.
+  ControlActions start();  // the start-up zero frame
+  EnableDecision enable(EnableRequest request);
+  ControlActions disable();  // a stop, then the disable frame
+  ControlActions stop();
+  ControlActions client_gone(ClientId client);  // a stop (and the lapse) if it held control
+  // At the deadman's timer: a stop (and the lapse) if the owner's deadline passed, else the
+  // timer re-armed for the deadline a later drive set.
+  ControlActions expire_deadman(MonotonicNanos now);
+  ControlActions shut_down();  // a stop, then the disable frame if disable_on_exit; nothing more
   DriveDecision drive(ClientId client, const Velocity& target, MonotonicNanos now);
+  // A control period: the command frame (ramped toward the target), the heartbeat; the deadman
+  // first when the loop ran late and the owner's deadline passed.
+  ControlActions period(MonotonicNanos now);
+  ControlActions refresh_enable();  // the enable frame's periodic repeat
 
-  // The emergency stop (spec section 12). estop: true if it latched now (a stop follows);
-  // false while already latched, which changes nothing. release: refused while the tilt
-  // that latched it still holds.
-  bool estop(const Latch& latch);
-  ReleaseOutcome release();
+  // The emergency stop (spec section 12). estop: a stop, latched (actions.latched); nothing
+  // while already latched. release: refused while the tilt that latched it still holds.
+  ControlActions estop(const Latch& latch);
+  ReleaseDecision release(std::optional<ClientId> by);
   // At start, from the state file: latched as before, without a stop (nothing drives yet).
   void restore(const SafetyState& state) { safety_ = state; }
   const SafetyState& safety() const { return safety_; }
@@ -121,9 +137,9 @@ class ChassisSupervisor {
   const ControlCommand& sent() const { return sent_; }  // the last frame that reached the link
 
   // The chassis.
-  void link_changed(LinkState state);
+  ControlActions link_changed(LinkState state);
   // Each record in phase `ready` is judged for the hazards (spec section 12); one found
-  // latches as estop does, and the outcome says so.
+  // latches as estop does.
   RecordOutcome record(const RecordInput& record, MonotonicNanos now);
   RecordOutcome record(const PhaseInput& record, MonotonicNanos now) { return this->record(RecordInput{record}, now); }
   bool expire_online(MonotonicNanos now);  // true if it just went offline
@@ -145,10 +161,16 @@ class ChassisSupervisor {
  private:
   // Quantizes the arbiter's target; true if the frame changed.
   bool update_command();
-  // Target zero, no owner, and the next frame zero at once.
-  void zero();
+  // Every stop: target zero, no owner, the deadman cancelled, the zero frame at once.
+  void stop_into(ControlActions& actions);
+  // Latches and stops; false (nothing done) while already latched.
+  bool latch_into(const Latch& latch, ControlActions& actions);
+  // Control enabled, the enable frame, the command after it where the link wants one, the periods.
+  void enable_into(ControlActions& actions);
+  // A send, unless the link is down (link_changed() catches up when it returns).
+  void send(ControlActions& actions, LinkSend what) const;
   // The owner's control as it would lapse now; empty without an owner.
-  std::optional<ControlLapse> lapse() const;
+  std::optional<ControlLapse> lapse(LapseCause cause) const;
 
   SupervisorSettings settings_;
   ControlMode mode_ = ControlMode::not_started;
