@@ -6,8 +6,12 @@
 #      direct subscriber of wheeltecd in the same run;
 #   2. wheeltec-web's CPU per record with those 8 viewers (10 ms ticks), its system calls per
 #      record (strace -c, exact), and its RSS; what it adds over the daemon's subscriber;
-#   3. the same latency at the page in headless Chromium, next to the daemon's subscriber.
-#   (--no-browser leaves 3 out.)
+#   3. wheeltec-web against a Python aiohttp Foxglove server (bench/web/aiohttp_foxglove.py, issue
+#      #44: at most 0.8x its p50): the same clients at each, 5 alternating rounds of 2 s (--quick:
+#      0.5 s) at each server, only one server's clients subscribed at a time; the medians of the
+#      rounds' p50 and p99, and their ratio. Needs Debian's python3-aiohttp (/usr/bin/python3);
+#   4. the same latency at the page in headless Chromium, next to the daemon's subscriber.
+#   (--no-browser leaves 4 out.)
 # Telemetry at 50 Hz for 20 s per run; --quick: 5 s, to check that it works.
 #
 #   scripts/bench-web.sh [--quick] [--no-browser] [--viewers N] [--serial]
@@ -37,7 +41,7 @@ while (($#)); do
       [[ ${2:-} =~ ^[1-9][0-9]*$ ]] || { echo "bench-web.sh: --viewers needs a number of 1 or more" >&2; exit 2; }
       viewers=$2
       shift ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) echo "bench-web.sh: unknown argument $1" >&2; exit 2 ;;
   esac
   shift
@@ -46,6 +50,8 @@ done
 for program in emulator/wheeltec-emu daemon/wheeltecd web/wheeltec-web; do
   [[ -x $BUILD_DIR/$program ]] || { echo "bench-web.sh: $BUILD_DIR/$program is not built" >&2; exit 1; }
 done
+/usr/bin/python3 -c 'import aiohttp' 2>/dev/null ||
+  { echo "bench-web.sh: /usr/bin/python3 cannot import aiohttp (the comparison's server): install python3-aiohttp" >&2; exit 1; }
 node_dir=$BUILD_DIR/tests/web/node
 if [[ ! -d $node_dir/node_modules/@foxglove/ws-protocol ]]; then
   mkdir -p "$node_dir"

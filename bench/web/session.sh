@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # One session of wheeltec-web's benchmark (scripts/bench-web.sh): wheeltec-emu, wheeltecd and wheeltec-web on
-# vcan0 (--serial: a pty), one more over TLS, relay.py, Chromium unless --no-browser, then web_bench.cjs.
+# vcan0 (--serial: a pty), one more over TLS, relay.py, the aiohttp Foxglove server aiohttp_foxglove.py (Debian's
+# /usr/bin/python3 with python3-aiohttp; missing, the session fails), Chromium unless --no-browser, then web_bench.cjs.
 #   session.sh BUILD_DIR NODE_MODULES TELEMETRY_HZ SECONDS VIEWERS [--no-browser] [--serial]
 set -euo pipefail
 build=$1 node_modules=$2 hz=$3 seconds=$4 viewers=$5
@@ -19,6 +20,7 @@ work=$(mktemp -d /tmp/bench-web.XXXXXX)
 pids=()
 # Chromium's children may still write its profile after it exits: the removal is tried again, never failing.
 cleanup() {
+  kill -CONT "${pids[@]}" 2>/dev/null || true  # web_bench.cjs stops a server at a time, and resumes it
   kill "${pids[@]}" 2>/dev/null || true
   wait 2>/dev/null || true
   rm -rf "$work" 2>/dev/null || { sleep 1; rm -rf "$work" 2>/dev/null; } || true
@@ -34,6 +36,24 @@ pids+=($!)
 for _ in $(seq 50); do [[ ${link[0]} != --serial || -e $work/tty ]] && break; sleep 0.1; done
 "$build/daemon/wheeltecd" --config "$work/empty.json" "${link[@]}" --socket "$work/wheeltecd.sock" --log-level warn >"$work/daemon.log" 2>&1 &
 pids+=($!)
+# What wheeltec-web is compared with (issue #44): a Foxglove server written with aiohttp, on its own port. It
+# subscribes before it listens, and before wheeltec-web: the daemon writes each record to its subscribers in the
+# order they connected, so the aiohttp server is written to first.
+python=/usr/bin/python3
+"$python" -c 'import aiohttp' 2>/dev/null ||
+  { echo "session.sh: $python cannot import aiohttp, which bench/web/aiohttp_foxglove.py needs: install python3-aiohttp" >&2; exit 1; }
+aiohttp_port=$((port + 2))
+for _ in $(seq 100); do [[ -S $work/wheeltecd.sock ]] && break; sleep 0.1; done
+"$python" "$here/aiohttp_foxglove.py" "$aiohttp_port" "$work/wheeltecd.sock" >"$work/aiohttp.log" 2>&1 &
+aiohttp_pid=$!
+pids+=("$aiohttp_pid")
+for attempt in $(seq 101); do
+  curl -s -o /dev/null --max-time 1 "http://127.0.0.1:$aiohttp_port/" 2>/dev/null && break
+  kill -0 "$aiohttp_pid" 2>/dev/null || { echo "session.sh: aiohttp_foxglove.py exited: $(cat "$work/aiohttp.log")" >&2; exit 1; }
+  ((attempt <= 100)) || { echo "session.sh: aiohttp_foxglove.py did not listen on port $aiohttp_port" >&2; exit 1; }
+  sleep 0.1
+done
+
 # The page drives (the gamepad's latency) with this token.
 token=bench-$RANDOM$RANDOM
 (umask 077 && echo "$token" >"$work/token")
@@ -62,7 +82,7 @@ pids+=($!)
 for _ in $(seq 50); do [[ -S $work/relay.sock ]] && break; sleep 0.1; done
 
 args=(--socket "$work/wheeltecd.sock" --relay-socket "$work/relay.sock" --url "http://127.0.0.1:$port" --web-pid "$web_pid" --seconds "$seconds" --viewers "$viewers"
-      --tls-url "https://127.0.0.1:$tls_port" --tls-web-pid "$tls_web_pid")
+      --tls-url "https://127.0.0.1:$tls_port" --tls-web-pid "$tls_web_pid" --aiohttp-url "ws://127.0.0.1:$aiohttp_port" --aiohttp-pid "$aiohttp_pid")
 # strace counts wheeltec-web's system calls per record exactly (UML charges CPU in 10 ms ticks).
 strace=$(command -v strace || true)
 [[ -n $strace ]] && args+=(--strace "$strace")

@@ -1,8 +1,10 @@
 // wheeltec-web's benchmark, run by bench/web/session.sh: the 0x103 frame (the record's `time`) to the message
 // at --viewers Foxglove clients of --url, beside a direct subscriber of wheeltecd's --socket and (--relay-socket)
 // one through bench/web/relay.py; wheeltec-web's (--web-pid) CPU, RSS and (--strace) system calls per record, for
-// --seconds; the same over wss:// (--tls-url, --tls-web-pid); and (--devtools PORT, headless Chromium) at
-// wheeltec-web's own page. Prints a table and, last, one JSON line with every figure.
+// --seconds; the same over wss:// (--tls-url, --tls-web-pid); against a Python aiohttp Foxglove server
+// (--aiohttp-url, --aiohttp-pid: bench/web/aiohttp_foxglove.py), --viewers clients at each, in 5 alternating
+// rounds of --seconds / 10 per server; and (--devtools PORT, headless Chromium) at wheeltec-web's own page.
+// Prints a table and, last, one JSON line with every figure.
 'use strict';
 const fs = require('fs');
 const net = require('net');
@@ -18,6 +20,9 @@ for (let i = 2; i < process.argv.length; i += 2) options[camel(process.argv[i])]
 const [viewers, seconds] = [Number(options.viewers), Number(options.seconds)];
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 const nowS = () => (performance.timeOrigin + performance.now()) / 1000;
+// Processes stopped for a measurement (the aiohttp comparison's): resumed whatever way this ends.
+const resumeOnExit = [];
+process.on('exit', () => resumeOnExit.forEach((pid) => { try { process.kill(Number(pid), 'SIGCONT'); } catch { /* gone */ } }));
 function fail(why) { console.error(`web_bench: ${why}`); process.exit(1); }
 
 // Latencies in ms, collected while `recording` is true; or (`counting`) only how many.
@@ -70,6 +75,26 @@ function foxgloveViewer(url, latencies) {
       ++viewerMessages;
       latencies.add(JSON.parse(new TextDecoder().decode(data)).time);
     });
+  });
+}
+
+// A Foxglove client of /wheeltec/telemetry that subscribes only when asked to; its messages are
+// timed in sink.latencies (none: not timed).
+function switchableViewer(url, sink) {
+  return new Promise((resolve, reject) => {
+    const client = new FoxgloveClient({ ws: new WebSocket(url, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]) });
+    client.on('error', reject);
+    client.on('advertise', (channels) => {
+      const telemetry = channels.find((channel) => channel.topic === '/wheeltec/telemetry');
+      if (!telemetry) return reject(new Error(`no /wheeltec/telemetry channel at ${url}`));
+      let subscription = null;
+      resolve({
+        subscribe() { subscription = client.subscribe(telemetry.id); },
+        unsubscribe() { if (subscription !== null) client.unsubscribe(subscription); subscription = null; },
+        close: () => client.close(),
+      });
+    });
+    client.on('message', ({ data }) => sink.latencies?.add(JSON.parse(new TextDecoder().decode(data)).time));
   });
 }
 
@@ -287,12 +312,103 @@ async function foxgloveRound(wsUrl, pid) {
   return round;
 }
 
+// wheeltec-web against bench/web/aiohttp_foxglove.py (issue #44: at most 0.8x its p50): `viewers`
+// clients at each server, all connected throughout, and `rounds` rounds of one window of `windowS`
+// at each server, wheeltec-web first in odd rounds and aiohttp first in even ones. Only the
+// measured server's clients are subscribed meanwhile, and the other server is stopped (SIGSTOP;
+// the records the daemon writes to it wait in its socket), so that neither one's work on a record
+// delays the other's (on one CPU, in User-Mode Linux, it would). Each window's p50 and p99 of
+// 0x103 frame -> message at the clients, beside the daemon's subscriber; the medians of the
+// rounds' figures, and each server's CPU per record over its windows.
+async function aiohttpComparison(rounds, windowS) {
+  const started = nowS();
+  const median = (values) => {
+    const sorted = values.filter((v) => v !== null).sort((a, b) => a - b);
+    if (!sorted.length) return null;
+    const middle = Math.floor(sorted.length / 2);
+    return sorted.length % 2 ? sorted[middle] : (sorted[middle - 1] + sorted[middle]) / 2;
+  };
+  const servers = [
+    { key: 'wheeltec_web', url: options.url.replace(/^http/, 'ws'), pid: options.webPid },
+    { key: 'aiohttp', url: options.aiohttpUrl, pid: options.aiohttpPid },
+  ];
+  const signal = (server, name) => process.kill(Number(server.pid), name);
+  resumeOnExit.push(...servers.map((server) => server.pid));
+  const daemonSink = { latencies: null };
+  const daemonSocket = await daemonSubscriber(options.socket, { add: (time) => daemonSink.latencies?.add(time) });
+  for (const server of servers) {
+    Object.assign(server, { sink: { latencies: null }, clients: [], cpu_s: 0, records: 0 });
+    for (let i = 0; i < viewers; ++i) server.clients.push(await switchableViewer(server.url, server.sink));
+  }
+  await sleep(500);
+  const results = [];
+  for (let round = 1; round <= rounds; ++round) {
+    const entry = { round, order: [] };
+    for (const server of round % 2 ? servers : [...servers].reverse()) {
+      const latencies = new Latencies(), daemon = new Latencies();
+      for (const other of servers) if (other !== server) signal(other, 'SIGSTOP');
+      signal(server, 'SIGCONT');
+      await sleep(150);  // past the records it was sent while stopped, which go to no client
+      server.sink.latencies = latencies;
+      for (const client of server.clients) client.subscribe();
+      await sleep(150);  // past the subscriptions
+      const cpuBefore = cpuSeconds(server.pid);
+      daemonSink.latencies = daemon;
+      latencies.recording = daemon.recording = true;
+      await sleep(windowS * 1000);
+      latencies.recording = daemon.recording = false;
+      server.cpu_s += cpuSeconds(server.pid) - cpuBefore;
+      server.records += daemon.values.length;
+      for (const client of server.clients) client.unsubscribe();
+      await sleep(100);  // what was sent before the unsubscriptions arrives, untimed
+      server.sink.latencies = null;
+      entry.order.push(server.key);
+      entry[server.key] = { ...latencies.summary(), daemon: daemon.summary() };
+    }
+    results.push(entry);
+  }
+  for (const server of servers) signal(server, 'SIGCONT');
+  daemonSocket.destroy();
+  const comparison = { rounds: results, window_s: windowS, viewers };
+  for (const server of servers) {
+    for (const client of server.clients) client.close();
+    const mine = results.map((r) => r[server.key]);
+    comparison[server.key] = {
+      median_p50_ms: median(mine.map((r) => r.p50_ms)), median_p99_ms: median(mine.map((r) => r.p99_ms)),
+      daemon_median_p50_ms: median(mine.map((r) => r.daemon.p50_ms)), n: mine.reduce((sum, r) => sum + r.n, 0),
+      max_ms: mine.some((r) => r.n) ? Math.max(...mine.filter((r) => r.n).map((r) => r.max_ms)) : null,
+      records: server.records, cpu_s: server.cpu_s,
+      us_per_record: server.records ? (server.cpu_s / server.records) * 1e6 : null, memory: memoryKiB(server.pid),
+    };
+  }
+  const [web, aiohttp] = [comparison.wheeltec_web, comparison.aiohttp];
+  comparison.ratio = web.median_p50_ms !== null && aiohttp.median_p50_ms ? web.median_p50_ms / aiohttp.median_p50_ms : null;
+  comparison.ratio_p99 = web.median_p99_ms !== null && aiohttp.median_p99_ms ? web.median_p99_ms / aiohttp.median_p99_ms : null;
+  comparison.target_ratio = 0.8;
+  comparison.met = comparison.ratio !== null && comparison.ratio <= comparison.target_ratio;
+  console.error(`web_bench: ${rounds} rounds against aiohttp done in ${(nowS() - started).toFixed(1)} s`);
+  return comparison;
+}
+
 const row = (name, s) => `| ${name} | ${s.n} | ${s.p50_ms?.toFixed(2)} | ${s.p99_ms?.toFixed(2)} | ${s.max_ms?.toFixed(2)} |`;
 const floorLine = (what, f) => f ? `one relay process (bench/web/relay.py)${what} adds over the daemon's subscriber: p50 ` +
   `${f.relay_p50_ms.toFixed(2)} ms, p99 ${f.relay_p99_ms.toFixed(2)} ms; wheeltec-web adds over that relay: p50 ` +
   `${f.web_over_relay_p50_ms.toFixed(2)} ms, p99 ${f.web_over_relay_p99_ms.toFixed(2)} ms` : null;
 const addedLine = (what, a) => `added by wheeltec-web${what} over the daemon's subscriber: p50 ${a.p50_ms.toFixed(2)} ms, ` +
   `p99 ${a.p99_ms.toFixed(2)} ms (target: at most ${a.target_ms} ms each; ${a.met ? 'met' : 'not met'})`;
+function aiohttpLines(a) {
+  const fixed = (v) => v === null || v === undefined ? '-' : v.toFixed(2);
+  const p50s = (key) => a.rounds.map((r) => fixed(r[key].p50_ms)).join(', ');
+  const cpu = (s) => s.us_per_record === null ? 'no records' : `${s.us_per_record.toFixed(0)} us per record`;
+  return [`wheeltec-web against a Python aiohttp Foxglove server (bench/web/aiohttp_foxglove.py), ${a.rounds.length} ` +
+    `alternating rounds of ${a.window_s} s at each, ${a.viewers} clients: median p50 ${fixed(a.wheeltec_web.median_p50_ms)} ms ` +
+    `against ${fixed(a.aiohttp.median_p50_ms)} ms, ${a.ratio === null ? '-' : a.ratio.toFixed(3)}x (target: at most ` +
+    `${a.target_ratio}x; ${a.met ? 'met' : 'not met'}); median p99 ${fixed(a.wheeltec_web.median_p99_ms)} ms against ` +
+    `${fixed(a.aiohttp.median_p99_ms)} ms; the daemon's subscriber meanwhile: median p50 ${fixed(a.wheeltec_web.daemon_median_p50_ms)} ` +
+    `ms / ${fixed(a.aiohttp.daemon_median_p50_ms)} ms`,
+    `the rounds' p50s in ms: wheeltec-web ${p50s('wheeltec_web')}; aiohttp ${p50s('aiohttp')}; CPU: wheeltec-web ` +
+    `${cpu(a.wheeltec_web)}, aiohttp ${cpu(a.aiohttp)} (10 ms ticks); aiohttp's RSS ${a.aiohttp.memory.rss_kib} KiB`];
+}
 function syscallLine(what, s) {
   if (!s || s.error) return `wheeltec-web system calls${what}: not counted (${s ? s.error : 'no strace'})`;
   const top = (per) => Object.entries(per).filter(([name]) => name !== 'total').sort((a, b) => b[1] - a[1]).slice(0, 5)
@@ -304,10 +420,18 @@ function syscallLine(what, s) {
 
 async function main() {
   // Chromium in User-Mode Linux loads slowly; the gamepad's rounds take up to 2 s each there.
-  setTimeout(() => fail('timed out'), (12 * seconds + 300) * 1000).unref();
+  setTimeout(() => fail('timed out'), (13 * seconds + 330) * 1000).unref();
+  // The comparison with aiohttp first: 5 rounds of two windows, as long as one of the rounds below. The
+  // aiohttp server then ends, so that its work on each record adds nothing to those rounds.
+  let aiohttp = null;
+  if (options.aiohttpUrl) {
+    aiohttp = await aiohttpComparison(5, seconds / 10);
+    process.kill(Number(options.aiohttpPid), 'SIGTERM');
+  }
   const plain = await foxgloveRound(options.url.replace(/^http/, 'ws'), options.webPid);
   const result = { viewers, seconds, foxglove: { daemon: plain.daemon, viewers: plain.viewers, relayed: plain.relayed },
                    relay_floor: plain.relay_floor, cpu: plain.cpu, syscalls: plain.syscalls, added: plain.added, memory: plain.memory };
+  if (aiohttp) result.aiohttp = aiohttp;
   if (options.tlsUrl) result.tls = await foxgloveRound(options.tlsUrl.replace(/^https/, 'wss'), options.tlsWebPid);
   if (options.devtools) {
     const daemonAgain = new Latencies();
@@ -320,6 +444,11 @@ async function main() {
   const lines = ['| 0x103 frame -> message | n | p50 ms | p99 ms | max ms |', '|---|---|---|---|---|',
     row('wheeltecd subscriber (same run)', result.foxglove.daemon), row(`${viewers} Foxglove clients via wheeltec-web`, result.foxglove.viewers)];
   if (result.foxglove.relayed) lines.push(row('wheeltecd subscriber through one relay process', result.foxglove.relayed));
+  if (result.aiohttp) {
+    const a = result.aiohttp, medians = (s) => ({ n: s.n, p50_ms: s.median_p50_ms, p99_ms: s.median_p99_ms, max_ms: s.max_ms });
+    lines.push(row(`${viewers} Foxglove clients via wheeltec-web (${a.rounds.length} alternating rounds: medians)`, medians(a.wheeltec_web)),
+               row(`${viewers} Foxglove clients via aiohttp_foxglove.py (the same rounds: medians)`, medians(a.aiohttp)));
+  }
   if (result.tls) lines.push(row('wheeltecd subscriber (wss:// run)', result.tls.daemon), row(`${viewers} Foxglove clients over wss://`,
                                                                                               result.tls.viewers));
   if (result.browser) lines.push(row('wheeltecd subscriber (browser run)', result.browser.daemon),
@@ -336,6 +465,7 @@ async function main() {
   if (result.tls) lines.push(addedLine(' over wss://', result.tls.added));
   if (result.relay_floor) lines.push(floorLine('', result.relay_floor));
   if (result.tls?.relay_floor) lines.push(floorLine(' (wss:// run)', result.tls.relay_floor));
+  if (result.aiohttp) lines.push(...aiohttpLines(result.aiohttp));
   lines.push(syscallLine('', result.syscalls));
   if (result.tls) lines.push(syscallLine(' over wss://', result.tls.syscalls));
   lines.push(`wheeltec-web memory: RSS ${result.memory.rss_kib} KiB, peak ${result.memory.peak_rss_kib} KiB` +
@@ -343,7 +473,7 @@ async function main() {
   console.log(lines.join('\n'));
   console.log(JSON.stringify(result));
   if (!result.foxglove.viewers.n || !result.foxglove.daemon.n || (result.browser && !result.browser.page.n) ||
-      (result.tls && !result.tls.viewers.n) || (result.browser?.gamepad && !result.browser.gamepad.skipped && !result.browser.gamepad.n)) {
+      (result.tls && !result.tls.viewers.n) || (result.aiohttp && (!result.aiohttp.wheeltec_web.n || !result.aiohttp.aiohttp.n)) || (result.browser?.gamepad && !result.browser.gamepad.skipped && !result.browser.gamepad.n)) {
     fail('some client received nothing');
   }
   process.exit(0);

@@ -23,6 +23,7 @@ readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd ut
   mosquitto mosquitto-clients openssl  # the broker, its clients and TLS certificates of the wheeltec-mqtt suites
   curl  # HTTP requests of the systemd suite of wheeltec-web
   chromium  # wheeltec-web's browser suite
+  python3-aiohttp  # the Python Foxglove server that the bench smoke's wheeltec-web benchmark compares with (bench/web/aiohttp_foxglove.py)
   libfastrtps-dev fastddsgen  # Fast DDS, ROS 2's default middleware: the ros2 suite's independent ROS 2 side
   python3-pytest python3-mypy python3-exceptiongroup python3-tomli)  # the Python client's suite; the last two let Debian's pytest run under Python 3.9
 

@@ -224,7 +224,8 @@ print(f"bench smoke: wheeltec-ros2 benchmark ran ({r['elapsed_s']:.0f} s inside 
 PY
 
 # The wheeltec-web benchmark's quick mode (about a minute): 8 Foxglove clients and the page in
-# headless Chromium, and 8 over wss://, must each have received records, and the CPU and memory figures be there.
+# headless Chromium, and 8 over wss://, must each have received records, and the CPU and memory figures be there;
+# so must the clients of wheeltec-web and of the aiohttp server in the 5 rounds of their comparison (not compared here).
 if [[ -x $BUILD_DIR/web/wheeltec-web ]]; then
   run_quick web "$REPO_ROOT/scripts/bench-web.sh" --quick
   python3 - "$work/web/web.json" <<'PY'
@@ -235,11 +236,17 @@ figures = {"Foxglove messages": w["foxglove"]["viewers"]["n"], "daemon messages"
            "wss:// Foxglove messages": w["tls"]["viewers"]["n"],
            "messages through the relay (the floor of one process)": (w["foxglove"].get("relayed") or {}).get("n"),
            "RSS": w["memory"]["rss_kib"]}
+comparison = w.get("aiohttp") or {}
+rounds = comparison.get("rounds") or []
+figures["rounds against aiohttp"] = len(rounds)
+figures["wheeltec-web messages in the aiohttp comparison"] = (comparison.get("wheeltec_web") or {}).get("n")
+figures["aiohttp messages in the aiohttp comparison"] = (comparison.get("aiohttp") or {}).get("n")
 missing = [name for name, value in figures.items() if not value]
 if missing:
     sys.exit("bench smoke: wheeltec-web benchmark: no " + ", no ".join(missing))
 print(f"bench smoke: wheeltec-web benchmark ran ({w['foxglove']['viewers']['n']} Foxglove, "
       f"{w['tls']['viewers']['n']} wss:// Foxglove and "
-      f"{w['browser']['page']['n']} page messages timed)")
+      f"{w['browser']['page']['n']} page messages timed; "
+      f"{comparison['aiohttp']['n']} aiohttp messages in {len(rounds)} rounds)")
 PY
 fi
