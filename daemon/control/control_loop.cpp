@@ -196,7 +196,10 @@ void ControlLoop::apply(const GatewayConfig& config) {
 
 void ControlLoop::start_periodic() { ports_.period_timer.start(timer_interval(1.0 / config_.control.rate_hz)); }
 
-void ControlLoop::on_period() { carry_out(supervisor_.period(ports_.clock.now()), ports_.clock.now()); }
+void ControlLoop::on_period() {
+  const MonotonicNanos now = ports_.clock.now();
+  carry_out(supervisor_.period(now), now);
+}
 
 void ControlLoop::start_enable_refresh() {
   if (!ports_.link.refreshes_enable()) {
