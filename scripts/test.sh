@@ -25,7 +25,11 @@ mkdir -p "$stage_logs"
 # Programs freshly built start slowly the first time inside User-Mode Linux on a busy host
 # (their pages come in through hostfs): the harnesses allow this much more for a start.
 export WHEELTEC_TEST_START_ALLOWANCE_S=${WHEELTEC_TEST_START_ALLOWANCE_S:-5}
-(cd "$BUILD_DIR" && ctest --output-on-failure "$@")
+# Tests run side by side, one per core ($CTEST_PARALLEL_LEVEL overrides): most of them wait on
+# timers and on the programs under test, and each vcan suite inside User-Mode Linux has a kernel
+# of its own. Natively the vcan suites hold the host's vcan0 in turn (tests/CMakeLists.txt), and
+# the few that judge timing run alone (RUN_SERIAL).
+(cd "$BUILD_DIR" && ctest --output-on-failure -j "${CTEST_PARALLEL_LEVEL:-$(nproc 2>/dev/null || echo 2)}" "$@")
 echo "== ctest done in $SECONDS s"
 passed=0 failed_stages=()
 for stage in "$REPO_ROOT"/scripts/test.d/*.sh; do

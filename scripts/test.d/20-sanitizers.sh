@@ -56,7 +56,7 @@ for program in tests/mqtt/mqtt_unit_tests tests/web/web_unit_tests tests/ros2/un
     targets+=("$(basename "$program")")
   fi
 done
-if "$REPO_ROOT/scripts/vcan-run" -- sh -c 'test -z "${VCAN_RUN_IN_UML:-}"' 2>/dev/null; then
+if [[ $("$REPO_ROOT/scripts/vcan-run" --where 2>/dev/null) == native ]]; then
   vcan=native
   targets+=(integration_tests)
 else

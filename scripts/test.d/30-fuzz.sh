@@ -4,6 +4,7 @@
 # from its seed corpus in fuzz/corpus/<target>/. Fails on any crash, leak, timeout or
 # sanitizer report; the reproducer is left in the build directory's fuzz-artifacts/.
 #   FUZZ_SECONDS   time per target (default 20)
+#   FUZZ_JOBS      targets run at once (default: the number of cores)
 #   FUZZ_BUILD_DIR build directory (default $BUILD_DIR-fuzz)
 set -euo pipefail
 
@@ -29,16 +30,27 @@ artifacts=$build/fuzz-artifacts
 mkdir -p "$artifacts"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-failed=0
-for target in "${targets[@]}"; do
+# One libFuzzer process is one thread: the targets run FUZZ_JOBS at a time (default: a core each).
+parallel=${FUZZ_JOBS:-$(nproc 2>/dev/null || echo 2)}
+run_target() {
+  local target=$1 corpus=$build/fuzz-corpus/$1 status=0
   # New inputs go to a scratch corpus; the repository's seeds stay as they are.
-  corpus=$build/fuzz-corpus/$target
   rm -rf -- "$corpus"
   mkdir -p "$corpus"
-  echo "fuzz: $target for ${seconds} s"
-  if "$build/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
-      -max_len=8192 -print_final_stats=1 -artifact_prefix="$artifacts/$target-" \
-      "$corpus" "$REPO_ROOT/fuzz/corpus/$target" >"$build/fuzz-$target.log" 2>&1; then
+  "$build/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+    -max_len=8192 -print_final_stats=1 -artifact_prefix="$artifacts/$target-" \
+    "$corpus" "$REPO_ROOT/fuzz/corpus/$target" >"$build/fuzz-$target.log" 2>&1 || status=$?
+  echo "$status" >"$build/fuzz-$target.status"
+}
+echo "fuzz: ${#targets[@]} targets for ${seconds} s each, $parallel at a time"
+for target in "${targets[@]}"; do
+  while (($(jobs -rp | wc -l) >= parallel)); do wait -n || true; done
+  run_target "$target" &
+done
+wait
+failed=0
+for target in "${targets[@]}"; do
+  if [[ $(<"$build/fuzz-$target.status") == 0 ]]; then
     grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb' "$build/fuzz-$target.log" | sed "s/^/fuzz: $target /"
   else
     echo "fuzz: $target FAILED; last lines of $build/fuzz-$target.log:" >&2
