@@ -265,7 +265,9 @@ TEST_F(ResilienceSafety, ErrorFramesAreReportedAsBusStatesAndRecover) {
   EXPECT_TRUE(wait_state("up")) << "bus.state did not return to up after the controller restarted";
   EXPECT_GE(client.call("stats")["error_frames"].get<int>(), 4);
   bus.discard_pending();
-  EXPECT_GE(bus.collect(is_any_control_frame, 500ms).size(), 8u) << "control frames must continue";
+  // Continuing is the point, not the period (20 a second, which other suites timing this
+  // machine's cores beside this one can thin out).
+  EXPECT_GE(bus.collect(is_any_control_frame, 1s).size(), 10u) << "control frames must continue";
 }
 
 TEST_F(ResilienceSafety, RebootedChassisGetsTheEnableFrameAsSoonAsTelemetryReturns) {
