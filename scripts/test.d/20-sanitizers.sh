@@ -69,9 +69,11 @@ for program in "${unit_programs[@]}"; do
   "$build/$program" --gtest_color=no --gtest_brief=1 || failed=1
 done
 echo "sanitizers: serial suites"
-(cd "$build" && ctest -L serial --output-on-failure) || failed=1
+# One suite per core, as in the test command's own ctest run.
+ctest_jobs=${CTEST_PARALLEL_LEVEL:-$(nproc 2>/dev/null || echo 2)}
+(cd "$build" && ctest -j "$ctest_jobs" -L serial --output-on-failure) || failed=1
 echo "sanitizers: the daemon's events suites"
-(cd "$build" && ctest -R '^record\.Events' --output-on-failure) || failed=1
+(cd "$build" && ctest -j "$ctest_jobs" -R '^record\.Events' --output-on-failure) || failed=1
 if [[ $vcan == native ]]; then
   echo "sanitizers: command-line integration tests"
   "$build/tests/integration/integration_tests" --gtest_filter='CommandLine.*:EmulatorCommandLine.*' --gtest_color=no \
