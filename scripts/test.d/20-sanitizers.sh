@@ -69,8 +69,8 @@ for program in "${unit_programs[@]}"; do
   "$build/$program" --gtest_color=no --gtest_brief=1 || failed=1
 done
 echo "sanitizers: serial suites"
-# One suite per core, as in the test command's own ctest run.
-ctest_jobs=${CTEST_PARALLEL_LEVEL:-$(nproc 2>/dev/null || echo 2)}
+# As many at once as in the test command's own ctest run (scripts/test.sh).
+ctest_jobs=${CTEST_PARALLEL_LEVEL:-1}
 (cd "$build" && ctest -j "$ctest_jobs" -L serial --output-on-failure) || failed=1
 echo "sanitizers: the daemon's events suites"
 (cd "$build" && ctest -j "$ctest_jobs" -R '^record\.Events' --output-on-failure) || failed=1
