@@ -27,6 +27,17 @@ readonly WHEELTEC_TEST_PACKAGES=(libgtest-dev systemd dpkg-dev adduser passwd ut
   libfastrtps-dev fastddsgen  # Fast DDS, ROS 2's default middleware: the ros2 suite's independent ROS 2 side
   python3-pytest python3-mypy python3-exceptiongroup python3-tomli)  # the Python client's suite; the last two let Debian's pytest run under Python 3.9
 
+# What the stages that build beside ctest need (scripts/test.sh): clang for the sanitizer and
+# fuzzing builds (20-sanitizers.sh, 30-fuzz.sh), and the arm64 cross toolchain, its :arm64
+# libraries and qemu (60-arm64.sh; Boost's headers are multi-arch "same" and needed as :arm64
+# for its arm64 CMake config files, the header-only nlohmann-json3-dev and libcli11-dev come
+# from the host). install_dependencies installs them before any test starts: the systemd
+# suite's sessions see this machine's package database, where an install under way would
+# show as an interrupted one.
+readonly WHEELTEC_CLANG_PACKAGES=(clang-14 libclang-rt-14-dev)
+readonly WHEELTEC_ARM64_PACKAGES=(crossbuild-essential-arm64 qemu-user file
+  libboost-dev:arm64 libspdlog-dev:arm64 libfmt-dev:arm64 libgtest-dev:arm64 libsystemd-dev:arm64)
+
 # Prints the packages among the arguments that are not installed.
 missing_packages() {
   local package status native
@@ -69,11 +80,22 @@ install_packages() {
   DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
 }
 
-# The programs' build and vcan packages; with "tests", the tests' packages too.
+# Lets dpkg install :arm64 packages (the arm64 stage's libraries).
+add_arm64_architecture() {
+  dpkg --print-foreign-architectures | grep -qx arm64 && return 0
+  local sudo=()
+  [[ $(id -u) -eq 0 ]] || sudo=(sudo)
+  echo "setup: adding the arm64 architecture to dpkg"
+  "${sudo[@]}" dpkg --add-architecture arm64
+  "${sudo[@]}" apt-get update
+}
+
+# The programs' build and vcan packages; with "tests", the tests' and the test stages' too.
 install_dependencies() {
   local packages=("${WHEELTEC_BUILD_PACKAGES[@]}" "${WHEELTEC_VCAN_PACKAGES[@]}")
   if [[ ${1:-} == tests ]]; then
-    packages+=("${WHEELTEC_TEST_PACKAGES[@]}")
+    add_arm64_architecture
+    packages+=("${WHEELTEC_TEST_PACKAGES[@]}" "${WHEELTEC_CLANG_PACKAGES[@]}" "${WHEELTEC_ARM64_PACKAGES[@]}")
     # wheeltec-web's suite runs npm's Foxglove client on node, and the MCAP writer's suite
     # npm's MCAP readers: Debian's nodejs, and its npm unless the nodejs already installed
     # brings one of its own.

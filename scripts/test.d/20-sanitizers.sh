@@ -21,7 +21,7 @@ REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
 BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
 # shellcheck source=scripts/lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
-install_packages clang-14 libclang-rt-14-dev
+install_packages "${WHEELTEC_CLANG_PACKAGES[@]}"
 prefix=${SANITIZER_BUILD_DIR:-$BUILD_DIR-sanitizers}
 jobs=${BUILD_JOBS:-2}
 reports=$prefix-reports
@@ -64,6 +64,7 @@ else
 fi
 echo "sanitizers: ASan, LSan and UBSan build of ${targets[*]} in $build"
 configure_and_build_with "$build" "-fsanitize=address,undefined" "${targets[@]}"
+[[ -z ${WHEELTEC_STAGE_BUILD_ONLY:-} ]] || exit 0  # scripts/test.sh builds this beside ctest
 echo "sanitizers: unit tests"
 for program in "${unit_programs[@]}"; do
   "$build/$program" --gtest_color=no --gtest_brief=1 || failed=1

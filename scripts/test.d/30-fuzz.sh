@@ -12,7 +12,7 @@ REPO_ROOT=${REPO_ROOT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}
 BUILD_DIR=${BUILD_DIR:-$REPO_ROOT/build}
 # shellcheck source=scripts/lib/setup.sh
 source "$REPO_ROOT/scripts/lib/setup.sh"
-install_packages clang-14 libclang-rt-14-dev
+install_packages "${WHEELTEC_CLANG_PACKAGES[@]}"
 
 seconds=${FUZZ_SECONDS:-20}
 build=${FUZZ_BUILD_DIR:-$BUILD_DIR-fuzz}
@@ -25,6 +25,7 @@ cmake -S "$REPO_ROOT" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${
   -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
   -DWHEELTEC_BUILD_FUZZERS=ON -DWHEELTEC_BUILD_TESTS=OFF -DWHEELTEC_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+[[ -z ${WHEELTEC_STAGE_BUILD_ONLY:-} ]] || exit 0  # scripts/test.sh builds this beside ctest
 
 artifacts=$build/fuzz-artifacts
 mkdir -p "$artifacts"

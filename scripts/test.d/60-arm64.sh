@@ -6,19 +6,8 @@ set -euo pipefail
 : "${REPO_ROOT:?}" "${BUILD_DIR:?}"
 source "$REPO_ROOT/scripts/lib/setup.sh"
 
-sudo=()
-[[ $(id -u) -eq 0 ]] || sudo=(sudo)
-if ! dpkg --print-foreign-architectures | grep -qx arm64; then
-  echo "arm64: adding the arm64 architecture to dpkg"
-  "${sudo[@]}" dpkg --add-architecture arm64
-  "${sudo[@]}" apt-get update
-fi
-# Header-only and architecture-independent packages (nlohmann-json3-dev, libcli11-dev)
-# come from the host installation; Boost's headers are multi-arch "same" and needed as
-# :arm64 for its arm64 CMake config files.
-install_packages crossbuild-essential-arm64 qemu-user file \
-  libboost-dev:arm64 libspdlog-dev:arm64 libfmt-dev:arm64 libgtest-dev:arm64 \
-  libsystemd-dev:arm64
+add_arm64_architecture
+install_packages "${WHEELTEC_ARM64_PACKAGES[@]}"
 
 arm_build=$BUILD_DIR/arm64  # removed with the build directory
 # Release: what a robot runs; without RelWithDebInfo's debug information the cross build,
@@ -27,6 +16,7 @@ cmake -S "$REPO_ROOT" -B "$arm_build" -G Ninja -DCMAKE_BUILD_TYPE=Release "${WHE
   -DCMAKE_TOOLCHAIN_FILE="$REPO_ROOT/cmake/toolchain-aarch64.cmake" \
   -DWHEELTEC_BUILD_BENCHMARKS=OFF -DWHEELTEC_BUILD_FUZZERS=OFF
 cmake --build "$arm_build" -j "${BUILD_JOBS:-2}" --target wheeltecd wheeltecctl wheeltec-emu unit_tests
+[[ -z ${WHEELTEC_STAGE_BUILD_ONLY:-} ]] || exit 0  # scripts/test.sh builds this beside ctest
 
 for program in daemon/wheeltecd cli/wheeltecctl emulator/wheeltec-emu tests/unit/unit_tests; do
   description=$(file -b "$arm_build/$program")
