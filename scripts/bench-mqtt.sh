@@ -10,6 +10,9 @@
 #      each bridge adds over the daemon's socket;
 #   1c. broker loss -> zero frame: the broker SIGKILLed while a bridge drives, to the first
 #      0x121 frame with zero velocity, for each bridge, several rounds;
+#   1c2. broker connection cut -> zero frame: a second wheeltec-mqtt and paho bridge on r1's
+#      daemon, each behind a TCP relay (bench/mqtt/connection_relay.hpp) that cuts its broker
+#      connection while it drives: the bridges' own part of a broker loss, the broker running;
 #   1d. the fleet's emergency stop: one empty message on wheeltec/all/cmd/estop while r1 drives,
 #      to its first zero frame (then `release` on the daemon's socket), as many rounds;
 #   2. 0x103 frame on the bus (kernel timestamp) -> the record at an MQTT subscriber,

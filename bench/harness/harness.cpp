@@ -804,14 +804,18 @@ void Robot::start_daemon() {
       (directory / "wheeltecd.json").string()}, directory);
   daemon->wait_for_socket(socket, 30);
 }
-void Robot::start_bridge(int broker_port) {
-  bridge = std::make_unique<ChildProgram>("wheeltec-mqtt", std::vector<std::string>{programs.bridge, "--config",
+std::unique_ptr<ChildProgram> Robot::launch_bridge(const std::string& program, int broker_port, const std::string& robot) const {
+  return std::make_unique<ChildProgram>(program, std::vector<std::string>{programs.bridge, "--config",
       (directory / "wheeltec-mqtt.json").string(), "--socket", socket.string(), "--broker", "127.0.0.1:" + std::to_string(broker_port),
-      "--robot", name, "--log-level", "info"}, directory);
+      "--robot", robot, "--log-level", "info"}, directory);
 }
-void Robot::start_paho_bridge(int broker_port, const std::string& robot) {
-  paho_bridge = std::make_unique<ChildProgram>("paho-bridge", std::vector<std::string>{"/usr/bin/python3", programs.paho_bridge,
+std::unique_ptr<ChildProgram> Robot::launch_paho_bridge(const std::string& program, int broker_port, const std::string& robot) const {
+  return std::make_unique<ChildProgram>(program, std::vector<std::string>{"/usr/bin/python3", programs.paho_bridge,
       "--socket", socket.string(), "--broker", "127.0.0.1:" + std::to_string(broker_port), "--robot", robot}, directory);
+}
+void Robot::start_bridge(int broker_port) { bridge = launch_bridge("wheeltec-mqtt", broker_port, name); }
+void Robot::start_paho_bridge(int broker_port, const std::string& robot) {
+  paho_bridge = launch_paho_bridge("paho-bridge", broker_port, robot);
 }
 constexpr std::pair<std::unique_ptr<ChildProgram> Robot::*, const char*> kRobotPrograms[] = {
     {&Robot::emulator, "wheeltec-emu"}, {&Robot::daemon, "wheeltecd"}, {&Robot::bridge, "wheeltec-mqtt"}, {&Robot::paho_bridge, "paho bridge"}};

@@ -284,6 +284,9 @@ struct Robot {  // a robot's programs in a directory of its own: wheeltec-emu (o
   void start_daemon();  // returns once its socket accepts connections
   void start_bridge(int broker_port);  // wheeltec-mqtt
   void start_paho_bridge(int broker_port, const std::string& robot);  // topics under PREFIX/`robot`
+  // A bridge on this robot's daemon with the topics of `robot`, its log named `program`.
+  std::unique_ptr<ChildProgram> launch_bridge(const std::string& program, int broker_port, const std::string& robot) const;
+  std::unique_ptr<ChildProgram> launch_paho_bridge(const std::string& program, int broker_port, const std::string& robot) const;
   std::vector<std::string> ended();  // its programs no longer running
   std::string logs() const;
   FleetPrograms programs;

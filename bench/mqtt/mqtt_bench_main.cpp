@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "connection_relay.hpp"
 #include "mqtt_clients.hpp"
 
 namespace {
@@ -18,6 +19,7 @@ namespace fs = std::filesystem;
 constexpr double kTelemetryHz = 20.0;  // the emulator's (and the stock firmware's) record rate
 constexpr const char* kPrefix = "wheeltec";
 constexpr const char* kPahoRobot = "py1";  // the paho bridge's topics: r1's daemon, topics of its own
+constexpr const char* kRelayedRobot = "relayed1", *kRelayedPahoRobot = "pyrelayed1";  // the connection cut's bridges, on r1's daemon
 constexpr const char* kHopTopic = "wheeltec-bench/hop";  // the broker's hop alone: no bridge subscribes
 struct Settings : BridgeSettings {
   std::vector<int> robots{1, 2, 4, 8, 16};
@@ -208,11 +210,13 @@ DriveResults measure_drives(const Settings& settings, Robot& robot, const Comman
   }
   return results;
 }
-// Broker loss -> zero frame: while a bridge (key, drive topic, pid) drives, the broker is SIGKILLed
-// and restarted, the other bridges frozen (SIGSTOP) meanwhile; `rounds` kills per bridge, in turns.
-json measure_broker_loss(Broker& broker, const CommandFrames& frames, const std::vector<std::tuple<std::string, std::string, pid_t>>& bridges,
-                         int rounds) {
-  std::vector<std::vector<double>> ms(bridges.size());  // kill -> zero frame, one per round
+// A stop path timed per bridge (key, drive topic): while the bridge drives, `lose(k)` takes bridge k's
+// broker away and returns that instant, `regain(k)` follows the first zero frame (or 2 s without one);
+// `rounds` per bridge, the bridges in turns.
+json measure_stop_on_loss(int broker_port, const CommandFrames& frames, const std::vector<std::pair<std::string, std::string>>& bridges,
+                          int rounds, const std::function<std::int64_t(std::size_t)>& lose,
+                          const std::function<void(std::size_t)>& regain) {
+  std::vector<std::vector<double>> ms(bridges.size());  // lost -> zero frame, one per round
   std::vector<int> missed(bridges.size()), never_driving(bridges.size());  // no zero frame in 2 s; no driving in 20 s
   int mm = 50;
   for (int round = 0; round < rounds; ++round) {
@@ -224,10 +228,10 @@ json measure_broker_loss(Broker& broker, const CommandFrames& frames, const std:
       for (const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
            !driving && std::chrono::steady_clock::now() < deadline;) {
         try {
-          if (!publisher) publisher = std::make_unique<MqttPublisher>("127.0.0.1", broker.port(), "wheeltec-bench-loss");
+          if (!publisher) publisher = std::make_unique<MqttPublisher>("127.0.0.1", broker_port, "wheeltec-bench-loss");
           mm = 50 + (mm - 49) % 40;  // 50..89 mm/s, never the previous one
           frames.drain();
-          publisher->publish(std::get<1>(bridges[measured]), fmt::format(R"({{"vx":{:.3f},"operator":"bench-loss"}})", mm / 1000.0));
+          publisher->publish(bridges[measured].second, fmt::format(R"({{"vx":{:.3f},"operator":"bench-loss"}})", mm / 1000.0));
           driving = frames.first_with(mm, 200).has_value();
           if (!driving) publisher->service();
         } catch (const std::exception&) {
@@ -239,30 +243,55 @@ json measure_broker_loss(Broker& broker, const CommandFrames& frames, const std:
         ++never_driving[measured];
         continue;
       }
-      const auto signal_others = [&](int signal) {
-        for (std::size_t i = 0; i < bridges.size(); ++i) {
-          if (i != measured) ::kill(std::get<2>(bridges[i]), signal);
-        }
-      };
-      signal_others(SIGSTOP);
       frames.drain();
-      const std::int64_t killed = broker.kill();
+      const std::int64_t lost = lose(measured);
       const auto zero = frames.first_with(0, 2000);
-      signal_others(SIGCONT);
       publisher.reset();
-      if (zero) ms[measured].push_back(static_cast<double>(*zero - killed) / 1e6);
+      if (zero) ms[measured].push_back(static_cast<double>(*zero - lost) / 1e6);
       else ++missed[measured];
-      broker.restart();
+      regain(measured);
     }
   }
   json out;
   for (std::size_t i = 0; i < bridges.size(); ++i) {
     std::vector<double> us;
     for (const double value : ms[i]) us.push_back(value * 1e3);
-    json& j = out[std::get<0>(bridges[i])] = summarize(us).to_json();
+    json& j = out[bridges[i].first] = summarize(us).to_json();
     j.update({{"missed", missed[i]}, {"never_driving", never_driving[i]}, {"rounds_ms", ms[i]}});
   }
   return out;
+}
+
+// Broker loss -> zero frame: while a bridge (key, drive topic, pid) drives, the broker is SIGKILLed
+// and restarted, the other bridges frozen (SIGSTOP) meanwhile.
+json measure_broker_loss(Broker& broker, const CommandFrames& frames, const std::vector<std::tuple<std::string, std::string, pid_t>>& bridges,
+                         int rounds) {
+  std::vector<std::pair<std::string, std::string>> topics;
+  for (const auto& bridge : bridges) topics.emplace_back(std::get<0>(bridge), std::get<1>(bridge));
+  const auto signal_others = [&](std::size_t measured, int signal) {
+    for (std::size_t i = 0; i < bridges.size(); ++i) {
+      if (i != measured) ::kill(std::get<2>(bridges[i]), signal);
+    }
+  };
+  return measure_stop_on_loss(broker.port(), frames, topics, rounds,
+      [&](std::size_t measured) {
+        signal_others(measured, SIGSTOP);
+        frames.drain();
+        return broker.kill();
+      },
+      [&](std::size_t measured) {
+        signal_others(measured, SIGCONT);
+        broker.restart();
+      });
+}
+
+// Broker connection cut -> zero frame: the bridges' own part of a broker loss. Each bridge (key, drive
+// topic) reaches the broker through a relay of its own, which cuts its connection while it drives; the
+// broker and the other bridges go on.
+json measure_connection_cut(int broker_port, const CommandFrames& frames, const std::vector<std::pair<std::string, std::string>>& bridges,
+                            std::vector<std::unique_ptr<ConnectionRelay>>& relays, int rounds) {
+  return measure_stop_on_loss(broker_port, frames, bridges, rounds,
+                              [&](std::size_t measured) { return relays[measured]->cut(); }, [](std::size_t) {});
 }
 
 // The fleet's emergency stop (spec section 12): while r1 drives through its bridge, one empty message
@@ -514,6 +543,25 @@ int measure(const Settings& settings, const fs::path& work) {
                                            settings.loss_rounds);
   if (out["fleet_estop"]["rounds_ms"].empty()) errors.push_back("the fleet's estop: no zero frame timed");
   for (const auto& error : out["fleet_estop"]["errors"]) errors.push_back("the fleet's estop: " + error.get<std::string>());
+  // The same stop without the broker's exit in the time: a second wheeltec-mqtt and paho bridge on r1's
+  // daemon, each behind a relay that cuts its broker connection.
+  std::cerr << "wheeltec-bench-mqtt: broker connection cut, " << settings.loss_rounds << " per bridge\n";
+  {
+    std::vector<std::unique_ptr<ConnectionRelay>> relays;
+    for (int i = 0; i < 2; ++i) relays.push_back(std::make_unique<ConnectionRelay>(fleet.broker->port()));
+    const auto relayed_bridge = r1.launch_bridge("wheeltec-mqtt-relayed", relays[0]->port(), kRelayedRobot);
+    const auto relayed_paho = r1.launch_paho_bridge("paho-bridge-relayed", relays[1]->port(), kRelayedPahoRobot);
+    out["connection_cut"] = measure_connection_cut(fleet.broker->port(), command_frames(),
+                                                   {{"wheeltec_mqtt", topic(kRelayedRobot, "cmd/drive")},
+                                                    {"paho_bridge", topic(kRelayedPahoRobot, "cmd/drive")}},
+                                                   relays, settings.loss_rounds);
+    for (const auto& [key, name] : {std::pair{"wheeltec_mqtt", "wheeltec-mqtt"}, {"paho_bridge", "paho bridge"}}) {
+      if (out["connection_cut"][key]["rounds_ms"].empty()) errors.push_back(std::string("connection cut: no zero frame timed for ") + name);
+    }
+    for (const auto& [program, name] : {std::pair{relayed_bridge.get(), "wheeltec-mqtt"}, {relayed_paho.get(), "paho bridge"}}) {
+      if (!program->running()) errors.push_back(std::string("after the connection cuts: the relayed ") + name + " ended");
+    }
+  }
   if (records && records->failure()) errors.push_back("the chassis' records stopped: " + *records->failure());
   // The subscriber reconnects by itself (libmosquitto's loop thread, 1 s) before the scaling steps.
   for (int i = 0; i < 100 && !subscriber.connected(); ++i) inbox.wait(100);
@@ -562,12 +610,17 @@ int measure(const Settings& settings, const fs::path& work) {
       drive_json["cpu_us_per_drive"]["paho_bridge"].get<double>());
   const auto loss_cell = [](const json& series) {
     std::string rounds;
-    for (const auto& value : series["rounds_ms"]) rounds += fmt::format("{}{:.1f}", rounds.empty() ? "" : ", ", value.get<double>());
-    return fmt::format("{:.1f} / {:.1f} ({}; {} missed)", series["p50_us"].get<double>() / 1e3, series["max_us"].get<double>() / 1e3,
+    for (const auto& value : series["rounds_ms"]) rounds += fmt::format("{}{:.2f}", rounds.empty() ? "" : ", ", value.get<double>());
+    return fmt::format("{:.2f} / {:.2f} ({}; {} missed)", series["p50_us"].get<double>() / 1e3, series["max_us"].get<double>() / 1e3,
                        rounds, series["missed"].get<int>());
   };
   std::cout << "| broker SIGKILLed while driving -> first zero " << frame << ", ms: p50 / max (each round) | "
             << loss_cell(out["broker_loss"]["wheeltec_mqtt"]) << " | " << loss_cell(out["broker_loss"]["paho_bridge"]) << " |\n";
+  const auto& cut = out["connection_cut"];
+  const double cut_mqtt = cut["wheeltec_mqtt"]["p50_us"].get<double>(), cut_paho = cut["paho_bridge"]["p50_us"].get<double>();
+  std::cout << "| broker connection cut while driving (the broker running) -> first zero " << frame
+            << ", ms: p50 / max (each round); wheeltec-mqtt / paho at p50: " << fmt::format("{:.2f}", cut_paho > 0 ? cut_mqtt / cut_paho : 0.0)
+            << " | " << loss_cell(cut["wheeltec_mqtt"]) << " | " << loss_cell(cut["paho_bridge"]) << " |\n";
   std::cout << "| " << kPrefix << "/all/cmd/estop published while driving -> first zero " << frame
             << " (then release on the socket), ms: p50 / max (each round) | " << loss_cell(out["fleet_estop"])
             << " | (no estop) |\n\n";

@@ -159,6 +159,8 @@ figures = {
     "broker hops timed (the broker's part of both bridges' drives)": m["drives"]["broker_hop"]["count"],
     "broker losses timed for wheeltec-mqtt": len(m["broker_loss"]["wheeltec_mqtt"]["rounds_ms"]),
     "broker losses timed for the paho bridge": len(m["broker_loss"]["paho_bridge"]["rounds_ms"]),
+    "connection cuts timed for wheeltec-mqtt": len(m["connection_cut"]["wheeltec_mqtt"]["rounds_ms"]),
+    "connection cuts timed for the paho bridge": len(m["connection_cut"]["paho_bridge"]["rounds_ms"]),
     "telemetry records matched at the MQTT subscriber": m["telemetry"]["via_mqtt"]["count"],
     "telemetry records matched at the direct subscriber": m["telemetry"]["direct_wheeltecd_subscriber"]["count"],
     "records published in the CPU window": m["cpu_per_record"]["records_published"],
@@ -187,6 +189,8 @@ figures = {
     "broker hops timed": m["drives"]["broker_hop"]["count"],
     "broker losses timed for wheeltec-mqtt": len(m["broker_loss"]["wheeltec_mqtt"]["rounds_ms"]),
     "broker losses timed for the paho bridge": len(m["broker_loss"]["paho_bridge"]["rounds_ms"]),
+    "connection cuts timed for wheeltec-mqtt": len(m["connection_cut"]["wheeltec_mqtt"]["rounds_ms"]),
+    "connection cuts timed for the paho bridge": len(m["connection_cut"]["paho_bridge"]["rounds_ms"]),
 }
 problems += [f"no {name}" for name, value in figures.items() if not value]
 if problems:
