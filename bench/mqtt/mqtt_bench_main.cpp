@@ -276,7 +276,6 @@ json measure_broker_loss(Broker& broker, const CommandFrames& frames, const std:
   return measure_stop_on_loss(broker.port(), frames, topics, rounds,
       [&](std::size_t measured) {
         signal_others(measured, SIGSTOP);
-        frames.drain();
         return broker.kill();
       },
       [&](std::size_t measured) {

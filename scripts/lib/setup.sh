@@ -55,6 +55,11 @@ missing_packages() {
   done
 }
 
+# Runs a command as root: directly when we are, else through sudo.
+as_root() {
+  if [[ $(id -u) -eq 0 ]]; then "$@"; else sudo "$@"; fi
+}
+
 # Installs those of the given Debian packages that are missing, with apt-get (through
 # sudo unless we are root). Test stages call it for what only they need.
 install_packages() {
@@ -67,27 +72,21 @@ install_packages() {
   if [[ ${#missing[@]} -eq 0 ]]; then
     return 0
   fi
-  local sudo=()
-  if [[ $(id -u) -ne 0 ]]; then
-    command -v sudo >/dev/null 2>&1 || {
-      echo "setup: missing packages (${missing[*]}) and no sudo; install them as root" >&2
-      return 1
-    }
-    sudo=(sudo)
+  if [[ $(id -u) -ne 0 ]] && ! command -v sudo >/dev/null 2>&1; then
+    echo "setup: missing packages (${missing[*]}) and no sudo; install them as root" >&2
+    return 1
   fi
   echo "setup: installing ${missing[*]}"
-  "${sudo[@]}" apt-get update
-  DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
+  as_root apt-get update
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
 }
 
 # Lets dpkg install :arm64 packages (the arm64 stage's libraries).
 add_arm64_architecture() {
   dpkg --print-foreign-architectures | grep -qx arm64 && return 0
-  local sudo=()
-  [[ $(id -u) -eq 0 ]] || sudo=(sudo)
   echo "setup: adding the arm64 architecture to dpkg"
-  "${sudo[@]}" dpkg --add-architecture arm64
-  "${sudo[@]}" apt-get update
+  as_root dpkg --add-architecture arm64
+  as_root apt-get update
 }
 
 # The programs' build and vcan packages; with "tests", the tests' and the test stages' too.
