@@ -57,7 +57,7 @@ class Gateway {
   TelemetryDecoder telemetry_;
   ChassisSupervisor supervisor_;
   DockMonitor dock_;
-  ControlIo control_io_;
+  ControlIo control_io_;  // before api_: its stall sentinel forks before the API socket exists
   ControlLoop control_;
   RpcHandler rpc_;
   ApiServer api_;

@@ -41,7 +41,7 @@ stop_builds_beside() {
   return 0
 }
 trap stop_builds_beside EXIT
-# setsid: a session of their own, so that an early exit (a failed ctest) ends them all.
+# setsid: a session of their own, so that an early exit (an interrupt) ends them all.
 # Where the idle class cannot be had, the lowest nice value.
 setsid bash -c '
   chrt --idle -p 0 $$ 2>/dev/null || renice -n 19 -p $$ >/dev/null 2>&1 || true
@@ -58,8 +58,13 @@ beside_pid=$!
 # Two tests at a time by default (CTEST_PARALLEL_LEVEL=N runs N): the suites that time the
 # programs take turns, and beside one of them run only the unit tests and the systemd
 # session (tests/CMakeLists.txt, WHEELTEC_TAKES_TURNS).
-(cd "$BUILD_DIR" && ctest --output-on-failure -j "${CTEST_PARALLEL_LEVEL:-2}" "$@")
-echo "== ctest done in $SECONDS s"
+# A failed test does not end the command: the stages still run, so that one report shows
+# every failure and every stage's time; the command fails at the end.
+ctest_result=passed
+if ! (cd "$BUILD_DIR" && ctest --output-on-failure -j "${CTEST_PARALLEL_LEVEL:-2}" "$@"); then
+  ctest_result=FAILED
+fi
+echo "== ctest $ctest_result, done in $SECONDS s"
 wait "$beside_pid" || true
 beside_pid=
 echo "== builds beside ctest done in $SECONDS s"
@@ -83,4 +88,8 @@ done
 if ((passed + ${#failed_stages[@]} > 0)); then
   echo "stages: $passed passed, ${#failed_stages[@]} failed${failed_stages[*]:+: ${failed_stages[*]}}"
 fi
-((${#failed_stages[@]} == 0))
+if [[ $ctest_result == FAILED ]]; then
+  echo "== FAILED ctest: these tests failed (their output is in ctest's part of the log):"
+  cat -- "$BUILD_DIR/Testing/Temporary/LastTestsFailed.log" 2>/dev/null || true
+fi
+[[ $ctest_result == passed ]] && ((${#failed_stages[@]} == 0))

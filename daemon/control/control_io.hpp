@@ -49,24 +49,21 @@ class ControlIo {
 
   class SentinelGuard : public StallGuard {
    public:
+    // The sentinel is forked here, before the Gateway's API socket and any client's
+    // connection exist. Forked later, it would hold copies of them until it has closed
+    // its files, and a daemon killed in that time would leave its socket accepting
+    // connections that nobody answers, and its restart finding the socket in use.
     SentinelGuard(StallSentinel::ZeroFrame zero, double rate_hz)
-        : sentinel_(std::move(zero), StallSentinel::timing_for_rate(rate_hz)) {}
-    // The link may have opened its descriptor before the sentinel existed: it gets it now.
-    void start() override {
+        : sentinel_(std::move(zero), StallSentinel::timing_for_rate(rate_hz)) {
       sentinel_.start();
-      if (port_fd_ >= 0) sentinel_.use_port(port_fd_);
     }
     void beat() override { sentinel_.beat(); }
     void disarm() override { sentinel_.disarm(); }
     void set_rate(double rate_hz) override { sentinel_.retime(StallSentinel::timing_for_rate(rate_hz)); }
-    void use_port(int fd) {
-      port_fd_ = fd;
-      sentinel_.use_port(fd);
-    }
+    void use_port(int fd) { sentinel_.use_port(fd); }
 
    private:
     StallSentinel sentinel_;
-    int port_fd_ = -1;  // the link's descriptor as last handed over (-1: closed)
   };
 
   SteadyClock clock_;

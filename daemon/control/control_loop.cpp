@@ -86,7 +86,6 @@ void ControlLoop::carry_out(const ControlActions& actions, MonotonicNanos now) {
 void ControlLoop::start() {
   if (supervisor_.mode() != ControlMode::not_started) return;
   carry_out(supervisor_.start(), ports_.clock.now());
-  ports_.stall_guard.start();
   if (config_.control.auto_enable) enable(EnableRequest::at_start);
 }
 

@@ -56,7 +56,6 @@ class TickSource {
 class StallGuard {
  public:
   virtual ~StallGuard() = default;
-  virtual void start() = 0;
   virtual void beat() = 0;                             // a control period went out
   virtual void disarm() = 0;                           // nothing to guard
   virtual void set_rate(double rate_hz) = 0;           // the control periods' rate changed

@@ -157,6 +157,23 @@ TEST_F(DaemonLifecycle, Dialect0x181ExitSendsZeroWithoutDisableFrame) {
   expect_exit_sequence(SIGTERM, false, kDialect181ControlId);
 }
 
+// Killed just after it has started, the daemon must leave nothing that accepts on its
+// socket: a client would wait on a connection nobody answers, and the daemon started in
+// its place would find the socket in use and exit 2.
+TEST_F(DaemonLifecycle, AKilledDaemonLeavesNoListenerBehind) {
+  Gateway& gateway = start_gateway();
+  for (int round = 0; round < 10; ++round) {
+    auto client = gateway.connect();
+    client.call("status");
+    gateway.daemon().send_signal(SIGKILL);
+    ASSERT_TRUE(gateway.daemon().wait_for_exit(3s)) << "wheeltecd survived SIGKILL";
+    EXPECT_FALSE(RpcConnection::can_connect(gateway.socket_path()))
+        << "round " << round << ": the killed daemon's socket still accepts connections";
+    gateway.start_daemon();
+  }
+  EXPECT_EQ(gateway.connect().call("status")["chassis"]["type"], "mecanum");
+}
+
 TEST_F(DaemonLifecycle, ChassisGoesOfflineWhenTelemetryStopsAndComesBack) {
   gateway_ = std::make_unique<Gateway>(directory_.path(), GatewayOptions{});
   Gateway& gateway = *gateway_;

@@ -175,6 +175,10 @@ Json RpcConnection::request(const std::string& method, const Json& params, std::
 Json RpcConnection::request_line(std::string_view line, const Json& id, std::chrono::milliseconds timeout) {
   if (!send_line(line)) throw std::runtime_error("the daemon closed the connection before: " + std::string(line));
   auto response = wait_response(id, timeout);
+  if (!response && peer_closed_) {
+    throw std::runtime_error("the daemon closed the connection without answering: " +
+                             std::string(line.substr(0, 200)));
+  }
   if (!response) throw std::runtime_error("no response within " + std::to_string(timeout.count()) + " ms to: " +
                                           std::string(line.substr(0, 200)));
   return *response;

@@ -106,7 +106,6 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard,
     if (refreshes_enable()) bus_.push_back({now_, enable, std::nullopt});
   }
   bool refreshes_enable() const override { return dialect_ == Dialect::manual && !serial_; }
-  void start() override { guard_started_ = true; }
   void beat() override {
     ++beats_;
     guard_armed_ = true;
@@ -145,7 +144,6 @@ class Simulation : public MonotonicClock, public CommandSink, public StallGuard,
   ControlPorts ports() { return {*this, *this, period_, enable_, deadman_, offline_, *this, *this}; }
 
   MonotonicNanos now_{1000s};
-  bool guard_started_ = false;
   int beats_ = 0;
   bool guard_armed_ = false;
   double guard_rate_hz_ = 0.0;  // 0: never told
@@ -230,7 +228,6 @@ TEST_F(ControlLoopTest, StartSendsZeroThenEnablesAndRepeatsEveryPeriod) {
   EXPECT_EQ(frames[1].enable, true);
   EXPECT_EQ(frames[2].velocity, kZero);
   EXPECT_TRUE(supervisor_.enabled());
-  EXPECT_TRUE(sim_.guard_started_);
 
   sim_.advance(kPeriod - 1ns);
   EXPECT_TRUE(sim_.take_frames().empty());
