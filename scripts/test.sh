@@ -30,11 +30,14 @@ export WHEELTEC_TEST_START_ALLOWANCE_S=${WHEELTEC_TEST_START_ALLOWANCE_S:-5}
 # arm64 builds) build them beside it in the idle scheduling class: they get only the
 # processor time the tests leave, and a test's process that wakes takes its core back at
 # once. Run afterwards, each stage finds its tree built. WHEELTEC_STAGE_BUILD_ONLY=1 stops
-# a stage after its build.
-builds_beside=()
+# a stage after its build. The fuzzing stage, which judges no timing, then runs whole
+# beside ctest too, one target at a time (about one core is left over beside the timed
+# suite): its result and output are reported in its turn below.
+builds_beside=() stages_beside=()
 for name in 20-sanitizers 30-fuzz 60-arm64; do
   if [[ -e $REPO_ROOT/scripts/test.d/$name.sh ]]; then builds_beside+=("$name"); fi
 done
+if [[ -e $REPO_ROOT/scripts/test.d/30-fuzz.sh ]]; then stages_beside+=(30-fuzz); fi
 beside_pid=
 stop_builds_beside() {
   [[ -n $beside_pid ]] && kill -- "-$beside_pid" 2>/dev/null
@@ -43,7 +46,7 @@ stop_builds_beside() {
 trap stop_builds_beside EXIT
 # setsid: a session of their own, so that an early exit (an interrupt) ends them all.
 # Where the idle class cannot be had, the lowest nice value.
-setsid bash -c '
+STAGES_BESIDE="${stages_beside[*]}" setsid bash -c '
   chrt --idle -p 0 $$ 2>/dev/null || renice -n 19 -p $$ >/dev/null 2>&1 || true
   ionice -c 3 -p $$ 2>/dev/null || true
   for name; do
@@ -53,6 +56,12 @@ setsid bash -c '
     else
       echo "== stage $name.sh: its build beside ctest failed, the stage builds again ($STAGE_LOGS/$name.build.log)"
     fi
+  done
+  for name in $STAGES_BESIDE; do
+    started=$SECONDS result=passed
+    FUZZ_JOBS=1 bash "$REPO_ROOT/scripts/test.d/$name.sh" >"$STAGE_LOGS/$name.log" 2>&1 || result=FAILED
+    echo "$result $((SECONDS - started))" >"$STAGE_LOGS/$name.beside"
+    echo "== stage $name.sh $result beside ctest in $((SECONDS - started)) s"
   done' _ "${builds_beside[@]}" &
 beside_pid=$!
 # Two tests at a time by default (CTEST_PARALLEL_LEVEL=N runs N): the suites that time the
@@ -67,11 +76,19 @@ fi
 echo "== ctest $ctest_result, done in $SECONDS s"
 wait "$beside_pid" || true
 beside_pid=
-echo "== builds beside ctest done in $SECONDS s"
+echo "== the work beside ctest done in $SECONDS s"
 passed=0 failed_stages=()
 for stage in "$REPO_ROOT"/scripts/test.d/*.sh; do
   [[ -e $stage ]] || continue
   name=$(basename "$stage" .sh)
+  if [[ -f $stage_logs/$name.beside ]]; then
+    read -r result took <"$stage_logs/$name.beside"
+    echo "== stage $name.sh (it ran beside ctest)"
+    cat -- "$stage_logs/$name.log"
+    if [[ $result == passed ]]; then passed=$((passed + 1)); else failed_stages+=("$name"); fi
+    echo "== stage $name.sh $result in $took s, beside ctest"
+    continue
+  fi
   echo "== stage $name.sh"
   started=$SECONDS
   if bash "$stage" 2>&1 | tee "$stage_logs/$name.log"; then

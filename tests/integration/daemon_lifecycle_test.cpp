@@ -162,7 +162,7 @@ TEST_F(DaemonLifecycle, Dialect0x181ExitSendsZeroWithoutDisableFrame) {
 // its place would find the socket in use and exit 2.
 TEST_F(DaemonLifecycle, AKilledDaemonLeavesNoListenerBehind) {
   Gateway& gateway = start_gateway();
-  for (int round = 0; round < 10; ++round) {
+  for (int round = 0; round < 5; ++round) {
     auto client = gateway.connect();
     client.call("status");
     gateway.daemon().send_signal(SIGKILL);
